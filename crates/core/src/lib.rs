@@ -1,0 +1,23 @@
+//! Penumbra core: the math, colour, random numbers and samplers every other layer builds on.
+//!
+//! Vectors and matrices come from [`glam`]; this crate adds what a renderer needs on top:
+//! rays with robust origin offsets, bounding boxes, orthonormal frames, affine transforms,
+//! linear RGB colour, a PCG32 generator and deterministic per-pixel samplers.
+
+pub mod bounds;
+pub mod color;
+pub mod frame;
+pub mod hash;
+pub mod ray;
+pub mod rng;
+pub mod samplers;
+pub mod transform;
+
+pub use bounds::Aabb;
+pub use color::Rgb;
+pub use frame::Frame;
+pub use glam::{Mat3, Mat4, UVec2, Vec2, Vec3};
+pub use ray::Ray;
+pub use rng::Pcg32;
+pub use samplers::{PixelSampler, SamplerKind};
+pub use transform::Transform;

@@ -1,0 +1,18 @@
+//! Independent uniform random numbers: a hash of the pixel, dimension and sample index.
+
+use super::Key;
+use crate::hash::{mix64, u32_to_unit};
+use glam::Vec2;
+
+pub(super) fn sample_1d(key: &Key) -> f32 {
+    u32_to_unit(bits(key) as u32)
+}
+
+pub(super) fn sample_2d(key: &Key) -> Vec2 {
+    let b = bits(key);
+    Vec2::new(u32_to_unit(b as u32), u32_to_unit((b >> 32) as u32))
+}
+
+fn bits(key: &Key) -> u64 {
+    mix64(key.pattern ^ mix64(key.index as u64))
+}
