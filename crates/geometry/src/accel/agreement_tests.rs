@@ -1,0 +1,130 @@
+//! Every accelerator must return the same closest hit and any-hit answer as `List`, for
+//! random scenes and random rays, including the awkward cases: empty scenes, a single
+//! primitive, coincident primitives, instances, axis-parallel rays and rays from inside.
+
+use super::*;
+use crate::shapes::{Cuboid, Disk, Plane, Quad, Sphere};
+use crate::{Geometry, GeometryBuilder, Instance, MeshAccel, Shape, TriangleMesh};
+use glam::Vec3;
+use penumbra_core::{Pcg32, Transform};
+use proptest::prelude::*;
+
+fn point(rng: &mut Pcg32, scale: f32) -> Vec3 {
+    Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, rng.next_f32() - 0.5) * scale
+}
+
+fn random_mesh(rng: &mut Pcg32, triangles: usize) -> TriangleMesh {
+    let positions: Vec<Vec3> = (0..triangles + 2).map(|_| point(rng, 4.0)).collect();
+    let indices = (0..triangles as u32).map(|i| [i, i + 1, i + 2]).collect();
+    TriangleMesh { positions, normals: None, uvs: None, indices }
+}
+
+/// A random scene of `n` primitives of every kind; `coincident` repeats one sphere many times.
+fn random_scene(seed: u64, n: usize, coincident: bool, with_plane: bool) -> Arc<Geometry> {
+    let mut rng = Pcg32::new(seed, 0);
+    let mut b = GeometryBuilder::new();
+    let shared = Arc::new(MeshAccel::new(Arc::new(random_mesh(&mut rng, 20)), AccelKind::Bvh));
+    for i in 0..n {
+        let c = point(&mut rng, 10.0);
+        let xf = Transform::rotate(point(&mut rng, 1.0), rng.next_f32() * 360.0).unwrap_or_default();
+        match i % 6 {
+            0 => {
+                b.add_shape(Shape::Sphere(Sphere::new(c, 0.1 + rng.next_f32(), &xf)));
+            }
+            1 => {
+                if let Some(q) = Quad::new(c, point(&mut rng, 3.0), point(&mut rng, 3.0), &xf) {
+                    b.add_shape(Shape::Quad(q));
+                }
+            }
+            2 => {
+                if let Some(d) = Disk::new(c, point(&mut rng, 1.0), 0.2 + rng.next_f32(), &xf) {
+                    b.add_shape(Shape::Disk(d));
+                }
+            }
+            3 => {
+                let size = Vec3::splat(0.1) + point(&mut rng, 1.0).abs();
+                if let Some(x) = Cuboid::new(c, c + size, &xf) {
+                    b.add_shape(Shape::Cuboid(x));
+                }
+            }
+            4 => {
+                let triangles = 1 + (rng.next_u32() % 30) as usize;
+                b.add_mesh(random_mesh(&mut rng, triangles).transformed(&xf));
+            }
+            _ => {
+                let place = xf.then(Transform::translate(c));
+                b.add_instance(Instance::new(shared.clone(), &place));
+            }
+        }
+    }
+    if coincident {
+        for _ in 0..100 {
+            b.add_shape(Shape::Sphere(Sphere::new(Vec3::ONE, 0.5, &Transform::IDENTITY)));
+        }
+    }
+    if with_plane {
+        b.add_shape(Shape::Plane(Plane::new(Vec3::new(0.0, -6.0, 0.0), Vec3::Y, &Transform::IDENTITY).unwrap()));
+    }
+    Arc::new(b.build())
+}
+
+fn random_ray(rng: &mut Pcg32) -> Ray {
+    let origin = point(rng, 30.0);
+    let mut dir = point(rng, 2.0);
+    match rng.next_u32() % 4 {
+        // Axis-parallel rays, through cell and node boundaries.
+        0 => {
+            let axis = (rng.next_u32() % 3) as usize;
+            dir = Vec3::ZERO;
+            dir[axis] = if rng.next_u32() % 2 == 0 { 1.0 } else { -1.0 };
+        }
+        // Aimed at the scene from outside, or starting inside it.
+        1 => dir = point(rng, 4.0) - origin,
+        2 => return Ray::new(point(rng, 8.0), dir),
+        _ => {}
+    }
+    Ray::new(origin, dir)
+}
+
+fn check_agreement(seed: u64, n: usize, coincident: bool, with_plane: bool) -> Result<(), TestCaseError> {
+    let geometry = random_scene(seed, n, coincident, with_plane);
+    let reference = geometry.accel(AccelKind::List);
+    let mut rng = Pcg32::new(seed, 1);
+    for kind in [AccelKind::Bvh] {
+        let accel = geometry.accel(kind);
+        for _ in 0..300 {
+            let ray = random_ray(&mut rng);
+            let t_max = if rng.next_u32() % 4 == 0 { rng.next_f32() * 20.0 } else { f32::INFINITY };
+            let want = reference.intersect(&ray, t_max);
+            let got = accel.intersect(&ray, t_max);
+            match (want, got) {
+                (None, None) => {}
+                (Some(a), Some(b)) => {
+                    prop_assert!((a.t - b.t).abs() <= 1e-5 * a.t.abs().max(1e-3), "{:?}: t {} vs {}", kind, a.t, b.t);
+                    // Equal distances may come from different primitives (ties, coincident copies).
+                    prop_assert!(a.prim == b.prim || a.t == b.t, "{:?}: prim {} vs {}", kind, a.prim, b.prim);
+                }
+                _ => prop_assert!(false, "{:?}: {:?} vs {:?} for {:?}", kind, want, got, ray),
+            }
+            prop_assert_eq!(reference.occluded(&ray, t_max), accel.occluded(&ray, t_max));
+            prop_assert_eq!(want.is_some(), accel.occluded(&ray, t_max));
+        }
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    #[test]
+    fn accelerators_agree_with_brute_force(seed in any::<u64>(), n in 0usize..120, coincident in any::<bool>(), plane in any::<bool>()) {
+        check_agreement(seed, n, coincident, plane)?;
+    }
+}
+
+#[test]
+fn empty_and_single_primitive_scenes() {
+    for n in [0, 1] {
+        check_agreement(7, n, false, false).unwrap();
+        check_agreement(8, n, false, true).unwrap();
+    }
+}

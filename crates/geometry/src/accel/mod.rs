@@ -1,0 +1,134 @@
+//! Acceleration structures: given a set of primitives, find the closest hit along a ray
+//! (`intersect`) or whether anything blocks it (`occluded`, for shadow rays).
+//!
+//! Every accelerator is built over a [`PrimitiveSet`] and answers through the [`Accel`]
+//! trait, so they can be swapped per scene (`accel = "..."` in the native format, `--accel`
+//! on the command line) and checked against each other. Primitives with unbounded extent
+//! (infinite planes) are kept out of the accelerator and tested on every ray.
+//!
+//! Adding an accelerator: a new file with a `build(prims: Arc<P>) -> impl Accel`, one
+//! variant in [`AccelKind`] and one arm in [`build_accel`].
+
+mod bvh;
+mod list;
+
+pub use bvh::Bvh;
+pub use list::List;
+
+use crate::Hit;
+use penumbra_core::{Aabb, Ray};
+use std::sync::Arc;
+
+/// A closest-hit and any-hit query over a set of primitives.
+pub trait Accel: Send + Sync {
+    /// The closest hit in `(0, t_max)`.
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit>;
+    /// Whether anything is hit in `(0, t_max)`.
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool;
+    fn bounds(&self) -> Aabb;
+}
+
+/// What an accelerator is built over: indexable primitives with bounds and a ray test.
+pub trait PrimitiveSet: Send + Sync + 'static {
+    fn len(&self) -> usize;
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    fn bounds(&self, i: u32) -> Aabb;
+    /// The hit of primitive `i` in `(0, t_max)`, with `Hit::prim == i`.
+    fn intersect(&self, i: u32, ray: &Ray, t_max: f32) -> Option<Hit>;
+    fn occluded(&self, i: u32, ray: &Ray, t_max: f32) -> bool {
+        self.intersect(i, ray, t_max).is_some()
+    }
+}
+
+/// The accelerators a scene can choose.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AccelKind {
+    /// Every primitive tested against every ray: the reference.
+    List,
+    /// Bounding volume hierarchy, binned SAH build.
+    #[default]
+    Bvh,
+}
+
+impl AccelKind {
+    pub const NAMES: [&'static str; 2] = ["list", "bvh"];
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "list" => Some(AccelKind::List),
+            "bvh" => Some(AccelKind::Bvh),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            AccelKind::List => "list",
+            AccelKind::Bvh => "bvh",
+        }
+    }
+}
+
+/// Builds the accelerator `kind` over `prims`.
+pub fn build_accel<P: PrimitiveSet>(kind: AccelKind, prims: Arc<P>) -> Box<dyn Accel> {
+    let (bounded, unbounded): (Vec<u32>, Vec<u32>) =
+        (0..prims.len() as u32).partition(|&i| prims.bounds(i).is_finite());
+    if unbounded.is_empty() {
+        return build_bounded(kind, prims);
+    }
+    let inner = build_bounded(kind, Arc::new(Subset { prims: prims.clone(), ids: bounded }));
+    Box::new(WithUnbounded { inner, unbounded: List::new(Arc::new(Subset { prims, ids: unbounded })) })
+}
+
+fn build_bounded<P: PrimitiveSet>(kind: AccelKind, prims: Arc<P>) -> Box<dyn Accel> {
+    match kind {
+        AccelKind::List => Box::new(List::new(prims)),
+        AccelKind::Bvh => Box::new(Bvh::new(prims)),
+    }
+}
+
+/// Some primitives of a set, renumbered `0..ids.len()`; hits keep the original numbers.
+struct Subset<P> {
+    prims: Arc<P>,
+    ids: Vec<u32>,
+}
+
+impl<P: PrimitiveSet> PrimitiveSet for Subset<P> {
+    fn len(&self) -> usize {
+        self.ids.len()
+    }
+    fn bounds(&self, i: u32) -> Aabb {
+        self.prims.bounds(self.ids[i as usize])
+    }
+    fn intersect(&self, i: u32, ray: &Ray, t_max: f32) -> Option<Hit> {
+        self.prims.intersect(self.ids[i as usize], ray, t_max)
+    }
+    fn occluded(&self, i: u32, ray: &Ray, t_max: f32) -> bool {
+        self.prims.occluded(self.ids[i as usize], ray, t_max)
+    }
+}
+
+/// An accelerator over the bounded primitives, plus a list of unbounded ones.
+struct WithUnbounded<P> {
+    inner: Box<dyn Accel>,
+    unbounded: List<Subset<P>>,
+}
+
+impl<P: PrimitiveSet> Accel for WithUnbounded<P> {
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let near = self.unbounded.intersect(ray, t_max);
+        let t = near.map_or(t_max, |h| h.t);
+        self.inner.intersect(ray, t).or(near)
+    }
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.unbounded.occluded(ray, t_max) || self.inner.occluded(ray, t_max)
+    }
+    fn bounds(&self) -> Aabb {
+        Aabb::INFINITE
+    }
+}
+
+#[cfg(test)]
+mod agreement_tests;

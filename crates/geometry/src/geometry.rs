@@ -1,0 +1,149 @@
+//! The scene's geometry: analytic shapes, world-space triangle meshes and mesh instances,
+//! as one primitive set for the top-level accelerator.
+
+use crate::accel::{build_accel, Accel, AccelKind, PrimitiveSet};
+use crate::instance::triangle_surface;
+use crate::shapes::triangle::intersect_triangle;
+use crate::{Hit, Instance, Shape, SurfaceHit, TriangleMesh};
+use penumbra_core::{Aabb, Ray};
+use std::sync::Arc;
+
+/// One primitive of the top level.
+#[derive(Clone, Copy, Debug)]
+enum Prim {
+    Shape(u32),
+    Triangle { mesh: u32, tri: u32 },
+    Instance(u32),
+}
+
+/// All primitives of a scene, each tagged with the scene object it belongs to.
+#[derive(Default)]
+pub struct Geometry {
+    shapes: Vec<(Shape, u32)>,
+    meshes: Vec<(TriangleMesh, u32)>,
+    instances: Vec<(Instance, u32)>,
+    prims: Vec<Prim>,
+}
+
+/// Collects shapes, meshes and instances, numbering them as scene objects in order.
+#[derive(Default)]
+pub struct GeometryBuilder {
+    geometry: Geometry,
+    objects: u32,
+}
+
+impl GeometryBuilder {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    fn next_object(&mut self) -> u32 {
+        self.objects += 1;
+        self.objects - 1
+    }
+
+    /// Adds a shape; returns its object number.
+    pub fn add_shape(&mut self, shape: Shape) -> u32 {
+        let object = self.next_object();
+        let g = &mut self.geometry;
+        g.prims.push(Prim::Shape(g.shapes.len() as u32));
+        g.shapes.push((shape, object));
+        object
+    }
+
+    /// Adds a world-space mesh whose triangles become top-level primitives.
+    pub fn add_mesh(&mut self, mesh: TriangleMesh) -> u32 {
+        let object = self.next_object();
+        let g = &mut self.geometry;
+        let m = g.meshes.len() as u32;
+        g.prims.extend((0..mesh.indices.len() as u32).map(|tri| Prim::Triangle { mesh: m, tri }));
+        g.meshes.push((mesh, object));
+        object
+    }
+
+    /// Adds an instance of a shared mesh.
+    pub fn add_instance(&mut self, instance: Instance) -> u32 {
+        let object = self.next_object();
+        let g = &mut self.geometry;
+        g.prims.push(Prim::Instance(g.instances.len() as u32));
+        g.instances.push((instance, object));
+        object
+    }
+
+    pub fn build(self) -> Geometry {
+        self.geometry
+    }
+}
+
+impl Geometry {
+    /// The accelerator `kind` over this geometry.
+    pub fn accel(self: &Arc<Self>, kind: AccelKind) -> Box<dyn Accel> {
+        build_accel(kind, self.clone())
+    }
+
+    /// Number of triangles, counting each instance's.
+    pub fn triangle_count(&self) -> usize {
+        let flat: usize = self.meshes.iter().map(|(m, _)| m.indices.len()).sum();
+        let instanced: usize = self.instances.iter().map(|(i, _)| i.triangle_count()).sum();
+        flat + instanced
+    }
+
+    /// The full surface description at `hit`, which `ray` produced.
+    pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfaceHit {
+        match self.prims[hit.prim as usize] {
+            Prim::Shape(s) => {
+                let (shape, object) = &self.shapes[s as usize];
+                let surf = shape.surface(ray, (hit.t, hit.uv));
+                SurfaceHit { p: surf.p, ng: surf.n, ns: surf.n, uv: surf.uv, object: *object }
+            }
+            Prim::Triangle { mesh, tri } => {
+                let (mesh, object) = &self.meshes[mesh as usize];
+                let (p, ng, ns, uv) = triangle_surface(mesh, tri, hit.uv);
+                SurfaceHit { p, ng, ns, uv, object: *object }
+            }
+            Prim::Instance(i) => {
+                let (instance, object) = &self.instances[i as usize];
+                let (p, ng, ns, uv) = instance.surface(hit.sub, hit.uv);
+                SurfaceHit { p, ng, ns, uv, object: *object }
+            }
+        }
+    }
+}
+
+impl PrimitiveSet for Geometry {
+    fn len(&self) -> usize {
+        self.prims.len()
+    }
+
+    fn bounds(&self, i: u32) -> Aabb {
+        match self.prims[i as usize] {
+            Prim::Shape(s) => self.shapes[s as usize].0.bounds(),
+            Prim::Triangle { mesh, tri } => self.meshes[mesh as usize].0.triangle_bounds(tri as usize),
+            Prim::Instance(k) => self.instances[k as usize].0.bounds(),
+        }
+    }
+
+    #[inline]
+    fn intersect(&self, i: u32, ray: &Ray, t_max: f32) -> Option<Hit> {
+        match self.prims[i as usize] {
+            Prim::Shape(s) => {
+                self.shapes[s as usize].0.intersect(ray, t_max).map(|(t, uv)| Hit { t, prim: i, sub: 0, uv })
+            }
+            Prim::Triangle { mesh, tri } => {
+                let p = self.meshes[mesh as usize].0.vertices(tri as usize);
+                intersect_triangle(ray, p, t_max).map(|(t, uv)| Hit { t, prim: i, sub: 0, uv })
+            }
+            Prim::Instance(k) => self.instances[k as usize]
+                .0
+                .intersect(ray, t_max)
+                .map(|h| Hit { t: h.t, prim: i, sub: h.prim, uv: h.uv }),
+        }
+    }
+
+    fn occluded(&self, i: u32, ray: &Ray, t_max: f32) -> bool {
+        match self.prims[i as usize] {
+            Prim::Instance(k) => self.instances[k as usize].0.occluded(ray, t_max),
+            _ => self.intersect(i, ray, t_max).is_some(),
+        }
+    }
+}

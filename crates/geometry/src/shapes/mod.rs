@@ -1,0 +1,95 @@
+//! Analytic shapes and the ray-triangle test. Each shape is a closed-enum variant with
+//! `bounds`, `intersect` (distance and shape coordinates) and `surface` (the full hit).
+//!
+//! Adding a shape: a new file with those three functions, one variant below and one arm
+//! in each match.
+
+mod cuboid;
+mod disk;
+mod plane;
+mod quad;
+mod sphere;
+pub mod triangle;
+
+pub use cuboid::Cuboid;
+pub use disk::Disk;
+pub use plane::Plane;
+pub use quad::Quad;
+pub use sphere::Sphere;
+
+use glam::{Vec2, Vec3};
+use penumbra_core::{Aabb, Ray};
+
+/// Where a ray meets a shape: distance and shape-specific coordinates.
+pub type ShapeHit = (f32, Vec2);
+
+/// The surface at a shape hit: position, unit outward normal, texture coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapeSurface {
+    pub p: Vec3,
+    pub n: Vec3,
+    pub uv: Vec2,
+}
+
+/// Every analytic shape the renderer knows.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    Sphere(Sphere),
+    Plane(Plane),
+    Quad(Quad),
+    Disk(Disk),
+    Cuboid(Cuboid),
+}
+
+impl Shape {
+    pub fn bounds(&self) -> Aabb {
+        match self {
+            Shape::Sphere(s) => s.bounds(),
+            Shape::Plane(_) => Aabb::INFINITE,
+            Shape::Quad(s) => s.bounds(),
+            Shape::Disk(s) => s.bounds(),
+            Shape::Cuboid(s) => s.bounds(),
+        }
+    }
+
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
+        match self {
+            Shape::Sphere(s) => s.intersect(ray, t_max),
+            Shape::Plane(s) => s.intersect(ray, t_max),
+            Shape::Quad(s) => s.intersect(ray, t_max),
+            Shape::Disk(s) => s.intersect(ray, t_max),
+            Shape::Cuboid(s) => s.intersect(ray, t_max),
+        }
+    }
+
+    pub fn surface(&self, ray: &Ray, hit: ShapeHit) -> ShapeSurface {
+        match self {
+            Shape::Sphere(s) => s.surface(ray, hit),
+            Shape::Plane(s) => s.surface(ray, hit),
+            Shape::Quad(s) => s.surface(ray, hit),
+            Shape::Disk(s) => s.surface(ray, hit),
+            Shape::Cuboid(s) => s.surface(ray, hit),
+        }
+    }
+}
+
+/// The ray parameter where `ray` meets the plane through `origin` with normal `n`, if it
+/// lies in `(0, t_max)`. Shared by the flat shapes.
+#[inline]
+pub(crate) fn plane_hit(ray: &Ray, origin: Vec3, n: Vec3, t_max: f32) -> Option<f32> {
+    let denom = n.dot(ray.dir);
+    if denom == 0.0 {
+        return None;
+    }
+    let t = n.dot(origin - ray.origin) / denom;
+    (t > 0.0 && t < t_max).then_some(t)
+}
+
+/// Coordinates `(a, b)` of the point `q` in the plane spanned by edges `e1`, `e2` at
+/// `origin`, so that `q = origin + a e1 + b e2`. `w` is `(e1 x e2) / |e1 x e2|^2`.
+#[inline]
+pub(crate) fn plane_coordinates(q: Vec3, origin: Vec3, e1: Vec3, e2: Vec3, w: Vec3) -> Vec2 {
+    let d = q - origin;
+    Vec2::new(w.dot(d.cross(e2)), w.dot(e1.cross(d)))
+}

@@ -1,0 +1,133 @@
+//! The watertight ray-triangle test of Woop, Benthin and Wald, "Watertight Ray/Triangle
+//! Intersection" (JCGT 2013): the ray is sheared to the +z axis and the edge functions are
+//! evaluated in that frame, falling back to double precision when one is exactly zero, so a
+//! ray never slips between triangles that share an edge. A top-left rule (as in
+//! rasterisation) breaks the tie when the ray runs exactly through the edge, so it hits
+//! exactly one of the two triangles.
+
+use glam::{DVec3, Vec2, Vec3};
+use penumbra_core::Ray;
+
+/// Distance and barycentrics `(b1, b2)` of the hit of `ray` with triangle `p`, if it lies in
+/// `(0, t_max)`. Degenerate triangles are never hit.
+#[inline]
+pub fn intersect_triangle(ray: &Ray, p: [Vec3; 3], t_max: f32) -> Option<(f32, Vec2)> {
+    // Permute so that z is the ray's dominant axis, keeping the winding.
+    let kz = ray.dir.abs().max_position();
+    let kx = if kz == 2 { 0 } else { kz + 1 };
+    let ky = if kx == 2 { 0 } else { kx + 1 };
+    let d = Vec3::new(ray.dir[kx], ray.dir[ky], ray.dir[kz]);
+    let permute = |q: Vec3| {
+        let q = q - ray.origin;
+        Vec3::new(q[kx], q[ky], q[kz])
+    };
+    let (mut p0, mut p1, mut p2) = (permute(p[0]), permute(p[1]), permute(p[2]));
+    // Shear so the ray runs along +z.
+    let sz = 1.0 / d.z;
+    let (sx, sy) = (-d.x * sz, -d.y * sz);
+    for q in [&mut p0, &mut p1, &mut p2] {
+        q.x += sx * q.z;
+        q.y += sy * q.z;
+    }
+    let mut e0 = p1.x * p2.y - p1.y * p2.x;
+    let mut e1 = p2.x * p0.y - p2.y * p0.x;
+    let mut e2 = p0.x * p1.y - p0.y * p1.x;
+    if e0 == 0.0 || e1 == 0.0 || e2 == 0.0 {
+        let (a, b, c) = (DVec3::from(p0), DVec3::from(p1), DVec3::from(p2));
+        e0 = (b.x * c.y - b.y * c.x) as f32;
+        e1 = (c.x * a.y - c.y * a.x) as f32;
+        e2 = (a.x * b.y - a.y * b.x) as f32;
+    }
+    let det = e0 + e1 + e2;
+    if det == 0.0 {
+        return None;
+    }
+    // Inside when every edge function has the sign of det; a zero edge function (the ray
+    // meets the edge's line) counts for one of the two triangles sharing that edge only.
+    let inside = |e: f32, a: Vec3, b: Vec3| if e == 0.0 { top_left(a, b) } else { (e > 0.0) == (det > 0.0) };
+    if !(inside(e0, p1, p2) && inside(e1, p2, p0) && inside(e2, p0, p1)) {
+        return None;
+    }
+    let t_scaled = (e0 * p0.z + e1 * p1.z + e2 * p2.z) * sz;
+    if det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det) {
+        return None;
+    }
+    if det > 0.0 && (t_scaled <= 0.0 || t_scaled > t_max * det) {
+        return None;
+    }
+    let inv_det = 1.0 / det;
+    let t = t_scaled * inv_det;
+    (t > 0.0 && t < t_max).then(|| (t, Vec2::new(e1 * inv_det, e2 * inv_det)))
+}
+
+/// The tie-break for a ray exactly on the edge from `a` to `b` (in the sheared frame): the
+/// reversed edge, as seen by the neighbouring triangle, gives the opposite answer.
+#[inline]
+fn top_left(a: Vec3, b: Vec3) -> bool {
+    let d = b - a;
+    d.y > 0.0 || (d.y == 0.0 && d.x < 0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use penumbra_core::Pcg32;
+
+    const TRI: [Vec3; 3] = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+
+    #[test]
+    fn hit_miss_and_barycentrics() {
+        let ray = Ray::new(Vec3::new(0.25, 0.5, 1.0), Vec3::NEG_Z);
+        let (t, b) = intersect_triangle(&ray, TRI, f32::INFINITY).unwrap();
+        assert_eq!(t, 1.0);
+        assert!((b - Vec2::new(0.25, 0.5)).length() < 1e-6);
+        // From behind: triangles are two-sided.
+        assert!(intersect_triangle(&Ray::new(Vec3::new(0.25, 0.25, -1.0), Vec3::Z), TRI, f32::INFINITY).is_some());
+        assert!(intersect_triangle(&Ray::new(Vec3::new(0.75, 0.75, 1.0), Vec3::NEG_Z), TRI, f32::INFINITY).is_none());
+        assert!(intersect_triangle(&ray, TRI, 0.5).is_none(), "t_max respected");
+        assert!(intersect_triangle(&Ray::new(Vec3::new(0.25, 0.25, 1.0), Vec3::Z), TRI, 9.0).is_none(), "behind");
+    }
+
+    #[test]
+    fn axis_aligned_ray_exactly_on_the_edge_hits_one() {
+        let a = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0)];
+        let b = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        for (origin, dir) in [
+            (Vec3::new(0.5, 0.5, 1.0), Vec3::NEG_Z),
+            (Vec3::new(0.5, 0.5, -1.0), Vec3::Z),
+            (Vec3::new(0.25, 0.25, 2.0), Vec3::new(0.25, 0.25, -2.0)),
+        ] {
+            let ray = Ray::new(origin, dir);
+            let hits = [a, b].iter().filter(|&&tri| intersect_triangle(&ray, tri, f32::INFINITY).is_some()).count();
+            assert_eq!(hits, 1, "{origin} {dir}");
+        }
+    }
+
+    #[test]
+    fn degenerate_triangles_never_hit() {
+        let line = [Vec3::ZERO, Vec3::X, Vec3::X * 2.0];
+        let point = [Vec3::ONE; 3];
+        for dir in [Vec3::NEG_Z, Vec3::NEG_Y, Vec3::new(1.0, -1.0, -1.0)] {
+            let ray = Ray::new(Vec3::new(0.5, 0.0, 0.0) - dir, dir);
+            assert!(intersect_triangle(&ray, line, f32::INFINITY).is_none());
+            assert!(intersect_triangle(&Ray::new(Vec3::ONE - dir, dir), point, f32::INFINITY).is_none());
+        }
+    }
+
+    #[test]
+    fn shared_edge_is_watertight() {
+        // Two triangles sharing the diagonal of the unit square, hit by rays aimed at points of
+        // the diagonal from random origins: each ray hits exactly one triangle.
+        let a = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0)];
+        let b = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        let mut rng = Pcg32::new(1, 2);
+        for _ in 0..20_000 {
+            let s = rng.next_f32();
+            let target = Vec3::new(s, s, 0.0);
+            let origin = Vec3::new(rng.next_f32() * 4.0 - 2.0, rng.next_f32() * 4.0 - 2.0, 0.5 + rng.next_f32() * 3.0);
+            let ray = Ray::new(origin, target - origin);
+            let hits = [a, b].iter().filter(|&&tri| intersect_triangle(&ray, tri, f32::INFINITY).is_some()).count();
+            assert_eq!(hits, 1, "ray through the shared edge at {target}");
+        }
+    }
+}
