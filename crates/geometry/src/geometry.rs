@@ -56,7 +56,8 @@ impl GeometryBuilder {
         let object = self.next_object();
         let g = &mut self.geometry;
         let m = g.meshes.len() as u32;
-        g.prims.extend((0..mesh.indices.len() as u32).map(|tri| Prim::Triangle { mesh: m, tri }));
+        g.prims
+            .extend((0..mesh.indices.len() as u32).map(|tri| Prim::Triangle { mesh: m, tri }));
         g.meshes.push((mesh, object));
         object
     }
@@ -94,17 +95,35 @@ impl Geometry {
             Prim::Shape(s) => {
                 let (shape, object) = &self.shapes[s as usize];
                 let surf = shape.surface(ray, (hit.t, hit.uv));
-                SurfaceHit { p: surf.p, ng: surf.n, ns: surf.n, uv: surf.uv, object: *object }
+                SurfaceHit {
+                    p: surf.p,
+                    ng: surf.n,
+                    ns: surf.n,
+                    uv: surf.uv,
+                    object: *object,
+                }
             }
             Prim::Triangle { mesh, tri } => {
                 let (mesh, object) = &self.meshes[mesh as usize];
                 let (p, ng, ns, uv) = triangle_surface(mesh, tri, hit.uv);
-                SurfaceHit { p, ng, ns, uv, object: *object }
+                SurfaceHit {
+                    p,
+                    ng,
+                    ns,
+                    uv,
+                    object: *object,
+                }
             }
             Prim::Instance(i) => {
                 let (instance, object) = &self.instances[i as usize];
                 let (p, ng, ns, uv) = instance.surface(hit.sub, hit.uv);
-                SurfaceHit { p, ng, ns, uv, object: *object }
+                SurfaceHit {
+                    p,
+                    ng,
+                    ns,
+                    uv,
+                    object: *object,
+                }
             }
         }
     }
@@ -127,16 +146,21 @@ impl PrimitiveSet for Geometry {
     fn intersect(&self, i: u32, ray: &Ray, t_max: f32) -> Option<Hit> {
         match self.prims[i as usize] {
             Prim::Shape(s) => {
-                self.shapes[s as usize].0.intersect(ray, t_max).map(|(t, uv)| Hit { t, prim: i, sub: 0, uv })
+                self.shapes[s as usize]
+                    .0
+                    .intersect(ray, t_max)
+                    .map(|(t, uv)| Hit { t, prim: i, sub: 0, uv })
             }
             Prim::Triangle { mesh, tri } => {
                 let p = self.meshes[mesh as usize].0.vertices(tri as usize);
                 intersect_triangle(ray, p, t_max).map(|(t, uv)| Hit { t, prim: i, sub: 0, uv })
             }
-            Prim::Instance(k) => self.instances[k as usize]
-                .0
-                .intersect(ray, t_max)
-                .map(|h| Hit { t: h.t, prim: i, sub: h.prim, uv: h.uv }),
+            Prim::Instance(k) => self.instances[k as usize].0.intersect(ray, t_max).map(|h| Hit {
+                t: h.t,
+                prim: i,
+                sub: h.prim,
+                uv: h.uv,
+            }),
         }
     }
 

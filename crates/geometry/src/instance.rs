@@ -49,7 +49,12 @@ impl Instance {
     pub fn new(mesh: Arc<MeshAccel>, to_world: &Transform) -> Self {
         let placement = Placement::new(to_world);
         let bounds = placement.bounds(mesh.accel.bounds());
-        Instance { mesh, placement, flip: to_world.swaps_handedness(), bounds }
+        Instance {
+            mesh,
+            placement,
+            flip: to_world.swaps_handedness(),
+            bounds,
+        }
     }
 
     pub fn bounds(&self) -> Aabb {

@@ -16,18 +16,39 @@ pub struct TriangleMesh {
 /// Why a mesh is unusable.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum MeshError {
-    IndexOutOfRange { triangle: usize, index: u32, vertices: usize },
-    AttributeCount { attribute: &'static str, found: usize, vertices: usize },
-    NonFinitePosition { vertex: usize },
+    IndexOutOfRange {
+        triangle: usize,
+        index: u32,
+        vertices: usize,
+    },
+    AttributeCount {
+        attribute: &'static str,
+        found: usize,
+        vertices: usize,
+    },
+    NonFinitePosition {
+        vertex: usize,
+    },
 }
 
 impl std::fmt::Display for MeshError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            MeshError::IndexOutOfRange { triangle, index, vertices } => {
-                write!(f, "triangle {triangle} uses vertex {index}, but the mesh has {vertices} vertices")
+            MeshError::IndexOutOfRange {
+                triangle,
+                index,
+                vertices,
+            } => {
+                write!(
+                    f,
+                    "triangle {triangle} uses vertex {index}, but the mesh has {vertices} vertices"
+                )
             }
-            MeshError::AttributeCount { attribute, found, vertices } => {
+            MeshError::AttributeCount {
+                attribute,
+                found,
+                vertices,
+            } => {
                 write!(f, "the mesh has {vertices} vertices but {found} {attribute}")
             }
             MeshError::NonFinitePosition { vertex } => write!(f, "vertex {vertex} is not a finite number"),
@@ -49,12 +70,20 @@ impl TriangleMesh {
             ("texture coordinates", self.uvs.as_ref().map(Vec::len)),
         ] {
             if let Some(found) = found.filter(|&n| n != vertices) {
-                return Err(MeshError::AttributeCount { attribute, found, vertices });
+                return Err(MeshError::AttributeCount {
+                    attribute,
+                    found,
+                    vertices,
+                });
             }
         }
         for (triangle, tri) in self.indices.iter().enumerate() {
             if let Some(&index) = tri.iter().find(|&&i| i as usize >= vertices) {
-                return Err(MeshError::IndexOutOfRange { triangle, index, vertices });
+                return Err(MeshError::IndexOutOfRange {
+                    triangle,
+                    index,
+                    vertices,
+                });
             }
         }
         Ok(())
@@ -65,9 +94,16 @@ impl TriangleMesh {
         let flip = t.swaps_handedness();
         TriangleMesh {
             positions: self.positions.iter().map(|&p| t.point(p)).collect(),
-            normals: self.normals.as_ref().map(|ns| ns.iter().map(|&n| t.normal(n).normalize_or_zero()).collect()),
+            normals: self
+                .normals
+                .as_ref()
+                .map(|ns| ns.iter().map(|&n| t.normal(n).normalize_or_zero()).collect()),
             uvs: self.uvs.clone(),
-            indices: if flip { self.indices.iter().map(|&[a, b, c]| [a, c, b]).collect() } else { self.indices.clone() },
+            indices: if flip {
+                self.indices.iter().map(|&[a, b, c]| [a, c, b]).collect()
+            } else {
+                self.indices.clone()
+            },
         }
     }
 

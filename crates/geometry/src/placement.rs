@@ -17,7 +17,11 @@ impl Placement {
     pub fn new(t: &Transform) -> Self {
         let to_world = Affine3A::from_mat4(t.m);
         let to_object = Affine3A::from_mat4(t.inv);
-        Placement { to_world, to_object, normal: to_object.matrix3.transpose() }
+        Placement {
+            to_world,
+            to_object,
+            normal: to_object.matrix3.transpose(),
+        }
     }
 
     pub fn ray_to_object(&self, ray: &Ray) -> Ray {
@@ -37,6 +41,10 @@ impl Placement {
     }
 
     pub fn bounds(&self, object: Aabb) -> Aabb {
-        Transform { m: glam::Mat4::from(self.to_world), inv: glam::Mat4::from(self.to_object) }.bounds(object)
+        Transform {
+            m: glam::Mat4::from(self.to_world),
+            inv: glam::Mat4::from(self.to_object),
+        }
+        .bounds(object)
     }
 }

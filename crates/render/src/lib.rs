@@ -1,1 +1,23 @@
+//! Penumbra rendering: materials, lights, cameras, film, integrators and the driver that
+//! renders a [`Scene`] tile by tile in parallel.
 
+pub mod cameras;
+pub mod driver;
+pub mod film;
+pub mod filter;
+pub mod integrators;
+pub mod lights;
+pub mod materials;
+pub mod optics;
+mod scene;
+pub mod texture;
+
+pub use cameras::Camera;
+pub use driver::{render, Progress, RenderOptions, RenderResult, RenderStats};
+pub use film::Film;
+pub use filter::Filter;
+pub use integrators::{Integrator, IntegratorKind, RayCounts};
+pub use lights::Light;
+pub use materials::Material;
+pub use scene::{Interaction, Scene};
+pub use texture::Texture;

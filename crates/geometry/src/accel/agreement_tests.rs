@@ -16,7 +16,12 @@ fn point(rng: &mut Pcg32, scale: f32) -> Vec3 {
 fn random_mesh(rng: &mut Pcg32, triangles: usize) -> TriangleMesh {
     let positions: Vec<Vec3> = (0..triangles + 2).map(|_| point(rng, 4.0)).collect();
     let indices = (0..triangles as u32).map(|i| [i, i + 1, i + 2]).collect();
-    TriangleMesh { positions, normals: None, uvs: None, indices }
+    TriangleMesh {
+        positions,
+        normals: None,
+        uvs: None,
+        indices,
+    }
 }
 
 /// A random scene of `n` primitives of every kind; `coincident` repeats one sphere many times.
@@ -63,7 +68,9 @@ fn random_scene(seed: u64, n: usize, coincident: bool, with_plane: bool) -> Arc<
         }
     }
     if with_plane {
-        b.add_shape(Shape::Plane(Plane::new(Vec3::new(0.0, -6.0, 0.0), Vec3::Y, &Transform::IDENTITY).unwrap()));
+        b.add_shape(Shape::Plane(
+            Plane::new(Vec3::new(0.0, -6.0, 0.0), Vec3::Y, &Transform::IDENTITY).unwrap(),
+        ));
     }
     Arc::new(b.build())
 }
@@ -94,15 +101,31 @@ fn check_agreement(seed: u64, n: usize, coincident: bool, with_plane: bool) -> R
         let accel = geometry.accel(kind);
         for _ in 0..300 {
             let ray = random_ray(&mut rng);
-            let t_max = if rng.next_u32() % 4 == 0 { rng.next_f32() * 20.0 } else { f32::INFINITY };
+            let t_max = if rng.next_u32() % 4 == 0 {
+                rng.next_f32() * 20.0
+            } else {
+                f32::INFINITY
+            };
             let want = reference.intersect(&ray, t_max);
             let got = accel.intersect(&ray, t_max);
             match (want, got) {
                 (None, None) => {}
                 (Some(a), Some(b)) => {
-                    prop_assert!((a.t - b.t).abs() <= 1e-5 * a.t.abs().max(1e-3), "{:?}: t {} vs {}", kind, a.t, b.t);
+                    prop_assert!(
+                        (a.t - b.t).abs() <= 1e-5 * a.t.abs().max(1e-3),
+                        "{:?}: t {} vs {}",
+                        kind,
+                        a.t,
+                        b.t
+                    );
                     // Equal distances may come from different primitives (ties, coincident copies).
-                    prop_assert!(a.prim == b.prim || a.t == b.t, "{:?}: prim {} vs {}", kind, a.prim, b.prim);
+                    prop_assert!(
+                        a.prim == b.prim || a.t == b.t,
+                        "{:?}: prim {} vs {}",
+                        kind,
+                        a.prim,
+                        b.prim
+                    );
                 }
                 _ => prop_assert!(false, "{:?}: {:?} vs {:?} for {:?}", kind, want, got, ray),
             }

@@ -49,10 +49,18 @@ impl<P: PrimitiveSet> Bvh<P> {
         let mut info: Vec<PrimInfo> = (0..prims.len() as u32)
             .map(|index| {
                 let bounds = prims.bounds(index);
-                PrimInfo { bounds, centroid: bounds.centroid(), index }
+                PrimInfo {
+                    bounds,
+                    centroid: bounds.centroid(),
+                    index,
+                }
             })
             .collect();
-        let nodes = if info.is_empty() { Vec::new() } else { build(&mut info, 0) };
+        let nodes = if info.is_empty() {
+            Vec::new()
+        } else {
+            build(&mut info, 0)
+        };
         let order = info.iter().map(|p| p.index).collect();
         Bvh { prims, nodes, order }
     }
@@ -76,7 +84,10 @@ impl<P: PrimitiveSet> Bvh<P> {
         let mut current = 0usize;
         loop {
             let node = &self.nodes[current];
-            let bounds = Aabb { min: Vec3::from(node.min), max: Vec3::from(node.max) };
+            let bounds = Aabb {
+                min: Vec3::from(node.min),
+                max: Vec3::from(node.max),
+            };
             if bounds.hit(ray, inv_dir, t_max).is_some() {
                 if node.count > 0 {
                     for &prim in &self.order[node.offset as usize..node.offset as usize + node.count as usize] {
@@ -130,7 +141,10 @@ impl<P: PrimitiveSet> Accel for Bvh<P> {
     }
 
     fn bounds(&self) -> Aabb {
-        self.nodes.first().map_or(Aabb::EMPTY, |n| Aabb { min: n.min.into(), max: n.max.into() })
+        self.nodes.first().map_or(Aabb::EMPTY, |n| Aabb {
+            min: n.min.into(),
+            max: n.max.into(),
+        })
     }
 }
 
@@ -171,7 +185,13 @@ fn build(prims: &mut [PrimInfo], first: usize) -> Vec<Node> {
     };
     let mut nodes = Vec::with_capacity(1 + left_nodes.len() + right_nodes.len());
     let second = 1 + left_nodes.len();
-    nodes.push(Node { min: bounds.min.into(), offset: second as u32, max: bounds.max.into(), count: 0, axis: axis as u16 });
+    nodes.push(Node {
+        min: bounds.min.into(),
+        offset: second as u32,
+        max: bounds.max.into(),
+        count: 0,
+        axis: axis as u16,
+    });
     nodes.extend(left_nodes.into_iter().map(|n| shift(n, 1)));
     nodes.extend(right_nodes.into_iter().map(|n| shift(n, second)));
     nodes

@@ -78,8 +78,17 @@ pub fn build_accel<P: PrimitiveSet>(kind: AccelKind, prims: Arc<P>) -> Box<dyn A
     if unbounded.is_empty() {
         return build_bounded(kind, prims);
     }
-    let inner = build_bounded(kind, Arc::new(Subset { prims: prims.clone(), ids: bounded }));
-    Box::new(WithUnbounded { inner, unbounded: List::new(Arc::new(Subset { prims, ids: unbounded })) })
+    let inner = build_bounded(
+        kind,
+        Arc::new(Subset {
+            prims: prims.clone(),
+            ids: bounded,
+        }),
+    );
+    Box::new(WithUnbounded {
+        inner,
+        unbounded: List::new(Arc::new(Subset { prims, ids: unbounded })),
+    })
 }
 
 fn build_bounded<P: PrimitiveSet>(kind: AccelKind, prims: Arc<P>) -> Box<dyn Accel> {

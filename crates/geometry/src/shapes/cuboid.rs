@@ -16,7 +16,10 @@ impl Cuboid {
     /// `None` if the box has no volume.
     pub fn new(min: Vec3, max: Vec3, to_world: &Transform) -> Option<Self> {
         let local = Aabb::new(min, max);
-        (local.extent().cmpgt(Vec3::ZERO).all()).then(|| Cuboid { local, placement: Placement::new(to_world) })
+        (local.extent().cmpgt(Vec3::ZERO).all()).then(|| Cuboid {
+            local,
+            placement: Placement::new(to_world),
+        })
     }
 
     pub fn bounds(&self) -> Aabb {
@@ -53,8 +56,16 @@ impl Cuboid {
             _ => Vec2::new(rel.x, rel.y),
         };
         let mut p = local;
-        p[axis] = if n[axis] > 0.0 { self.local.max[axis] } else { self.local.min[axis] };
-        ShapeSurface { p: self.placement.point_to_world(p), n: self.placement.normal_to_world(n), uv }
+        p[axis] = if n[axis] > 0.0 {
+            self.local.max[axis]
+        } else {
+            self.local.min[axis]
+        };
+        ShapeSurface {
+            p: self.placement.point_to_world(p),
+            n: self.placement.normal_to_world(n),
+            uv,
+        }
     }
 }
 
@@ -73,7 +84,9 @@ mod tests {
         let hit = b.intersect(&inside, f32::INFINITY).unwrap();
         assert_eq!(hit.0, 1.0);
         assert_eq!(b.surface(&inside, hit).n, Vec3::X);
-        assert!(b.intersect(&Ray::new(Vec3::new(0.0, 2.0, 0.0), Vec3::X), f32::INFINITY).is_none());
+        assert!(b
+            .intersect(&Ray::new(Vec3::new(0.0, 2.0, 0.0), Vec3::X), f32::INFINITY)
+            .is_none());
         assert!(Cuboid::new(Vec3::ZERO, Vec3::new(1.0, 0.0, 1.0), &Transform::IDENTITY).is_none());
     }
 

@@ -25,7 +25,13 @@ impl Disk {
         let axis2 = to_world.vector(frame.t * radius);
         let cross = axis1.cross(axis2);
         let n = cross.try_normalize()?;
-        Some(Disk { center, axis1, axis2, n, w: cross / cross.length_squared() })
+        Some(Disk {
+            center,
+            axis1,
+            axis2,
+            n,
+            w: cross / cross.length_squared(),
+        })
     }
 
     pub fn bounds(&self) -> Aabb {
@@ -46,7 +52,11 @@ impl Disk {
     }
 
     pub fn surface(&self, _ray: &Ray, (_, xy): ShapeHit) -> ShapeSurface {
-        ShapeSurface { p: self.center + xy.x * self.axis1 + xy.y * self.axis2, n: self.n, uv: 0.5 * (xy + Vec2::ONE) }
+        ShapeSurface {
+            p: self.center + xy.x * self.axis1 + xy.y * self.axis2,
+            n: self.n,
+            uv: 0.5 * (xy + Vec2::ONE),
+        }
     }
 }
 
@@ -57,8 +67,12 @@ mod tests {
     #[test]
     fn radius_respected() {
         let d = Disk::new(Vec3::ZERO, Vec3::Y, 2.0, &Transform::IDENTITY).unwrap();
-        assert!(d.intersect(&Ray::new(Vec3::new(1.9, 1.0, 0.0), Vec3::NEG_Y), f32::INFINITY).is_some());
-        assert!(d.intersect(&Ray::new(Vec3::new(1.5, 1.0, 1.5), Vec3::NEG_Y), f32::INFINITY).is_none());
+        assert!(d
+            .intersect(&Ray::new(Vec3::new(1.9, 1.0, 0.0), Vec3::NEG_Y), f32::INFINITY)
+            .is_some());
+        assert!(d
+            .intersect(&Ray::new(Vec3::new(1.5, 1.0, 1.5), Vec3::NEG_Y), f32::INFINITY)
+            .is_none());
         let b = d.bounds();
         assert!((b.max - Vec3::new(2.0, 0.0, 2.0)).length() < 1e-5);
         assert_eq!(d.n, Vec3::Y);

@@ -16,7 +16,10 @@ impl Plane {
     /// normal is zero.
     pub fn new(point: Vec3, normal: Vec3, to_world: &Transform) -> Option<Self> {
         let n = to_world.normal(normal).try_normalize()?;
-        Some(Plane { origin: to_world.point(point), frame: Frame::from_normal(n) })
+        Some(Plane {
+            origin: to_world.point(point),
+            frame: Frame::from_normal(n),
+        })
     }
 
     #[inline]
@@ -29,7 +32,11 @@ impl Plane {
         let d = p - self.origin;
         // Project back onto the plane to remove rounding error along the normal.
         let p = p - self.frame.n * d.dot(self.frame.n);
-        ShapeSurface { p, n: self.frame.n, uv: Vec2::new(d.dot(self.frame.s), d.dot(self.frame.t)) }
+        ShapeSurface {
+            p,
+            n: self.frame.n,
+            uv: Vec2::new(d.dot(self.frame.s), d.dot(self.frame.t)),
+        }
     }
 }
 
@@ -42,7 +49,9 @@ mod tests {
         let p = Plane::new(Vec3::ZERO, Vec3::Y, &Transform::translate(Vec3::new(0.0, -1.0, 0.0))).unwrap();
         let (t, _) = p.intersect(&Ray::new(Vec3::ZERO, Vec3::NEG_Y), f32::INFINITY).unwrap();
         assert_eq!(t, 1.0);
-        assert!(p.intersect(&Ray::new(Vec3::new(0.0, -3.0, 0.0), Vec3::Y), f32::INFINITY).is_some());
+        assert!(p
+            .intersect(&Ray::new(Vec3::new(0.0, -3.0, 0.0), Vec3::Y), f32::INFINITY)
+            .is_some());
         assert!(p.intersect(&Ray::new(Vec3::ZERO, Vec3::X), f32::INFINITY).is_none());
         assert!(p.intersect(&Ray::new(Vec3::ZERO, Vec3::Y), f32::INFINITY).is_none());
         assert!(Plane::new(Vec3::ZERO, Vec3::ZERO, &Transform::IDENTITY).is_none());

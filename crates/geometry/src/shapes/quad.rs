@@ -20,7 +20,13 @@ impl Quad {
         let (corner, edge1, edge2) = (to_world.point(corner), to_world.vector(edge1), to_world.vector(edge2));
         let cross = edge1.cross(edge2);
         let n = cross.try_normalize()?;
-        Some(Quad { corner, edge1, edge2, n, w: cross / cross.length_squared() })
+        Some(Quad {
+            corner,
+            edge1,
+            edge2,
+            n,
+            w: cross / cross.length_squared(),
+        })
     }
 
     pub fn bounds(&self) -> Aabb {
@@ -36,7 +42,11 @@ impl Quad {
     }
 
     pub fn surface(&self, _ray: &Ray, (_, ab): ShapeHit) -> ShapeSurface {
-        ShapeSurface { p: self.corner + ab.x * self.edge1 + ab.y * self.edge2, n: self.n, uv: ab }
+        ShapeSurface {
+            p: self.corner + ab.x * self.edge1 + ab.y * self.edge2,
+            n: self.n,
+            uv: ab,
+        }
     }
 }
 
@@ -53,7 +63,9 @@ mod tests {
         let s = q.surface(&ray, hit);
         assert!((s.uv - glam::Vec2::new(0.75, 0.25)).length() < 1e-6);
         assert_eq!(s.n, Vec3::Z);
-        assert!(q.intersect(&Ray::new(Vec3::new(2.1, 0.5, 1.0), Vec3::NEG_Z), f32::INFINITY).is_none());
+        assert!(q
+            .intersect(&Ray::new(Vec3::new(2.1, 0.5, 1.0), Vec3::NEG_Z), f32::INFINITY)
+            .is_none());
         assert!(Quad::new(Vec3::ZERO, Vec3::X, Vec3::X * 2.0, &Transform::IDENTITY).is_none());
     }
 }

@@ -22,7 +22,9 @@ impl Sphere {
             .unwrap_or_default()
             .then(Transform::translate(center))
             .then(*to_world);
-        Sphere { placement: Placement::new(&local) }
+        Sphere {
+            placement: Placement::new(&local),
+        }
     }
 
     pub fn bounds(&self) -> Aabb {
@@ -87,15 +89,26 @@ mod tests {
         let (t, _) = s.intersect(&inside, f32::INFINITY).unwrap();
         assert!((t - 1.0).abs() < 1e-6);
         let surf = s.surface(&inside, (t, Vec2::ZERO));
-        assert!((surf.n - Vec3::X).length() < 1e-6, "normal points outward even from inside");
+        assert!(
+            (surf.n - Vec3::X).length() < 1e-6,
+            "normal points outward even from inside"
+        );
     }
 
     #[test]
     fn misses_behind_and_beyond_t_max() {
         let s = unit();
-        assert!(s.intersect(&Ray::new(Vec3::ZERO, Vec3::Z), f32::INFINITY).is_none(), "sphere behind the origin");
-        assert!(s.intersect(&Ray::new(Vec3::ZERO, Vec3::NEG_Z), 3.9).is_none(), "t_max respected");
-        assert!(s.intersect(&Ray::new(Vec3::new(0.0, 1.01, 0.0), Vec3::NEG_Z), f32::INFINITY).is_none());
+        assert!(
+            s.intersect(&Ray::new(Vec3::ZERO, Vec3::Z), f32::INFINITY).is_none(),
+            "sphere behind the origin"
+        );
+        assert!(
+            s.intersect(&Ray::new(Vec3::ZERO, Vec3::NEG_Z), 3.9).is_none(),
+            "t_max respected"
+        );
+        assert!(s
+            .intersect(&Ray::new(Vec3::new(0.0, 1.01, 0.0), Vec3::NEG_Z), f32::INFINITY)
+            .is_none());
     }
 
     #[test]
@@ -106,7 +119,9 @@ mod tests {
         assert!((t - 5.0).abs() < 2e-3);
         // A small sphere seen from far away: the naive quadratic loses it to cancellation.
         let tiny = Sphere::new(Vec3::new(0.0, 0.0, -1e4), 1e-2, &Transform::IDENTITY);
-        let (t, _) = tiny.intersect(&Ray::new(Vec3::ZERO, Vec3::NEG_Z), f32::INFINITY).unwrap();
+        let (t, _) = tiny
+            .intersect(&Ray::new(Vec3::ZERO, Vec3::NEG_Z), f32::INFINITY)
+            .unwrap();
         assert!((t - (1e4 - 1e-2)).abs() < 1e-2);
     }
 

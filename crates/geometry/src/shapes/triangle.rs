@@ -44,7 +44,13 @@ pub fn intersect_triangle(ray: &Ray, p: [Vec3; 3], t_max: f32) -> Option<(f32, V
     }
     // Inside when every edge function has the sign of det; a zero edge function (the ray
     // meets the edge's line) counts for one of the two triangles sharing that edge only.
-    let inside = |e: f32, a: Vec3, b: Vec3| if e == 0.0 { top_left(a, b) } else { (e > 0.0) == (det > 0.0) };
+    let inside = |e: f32, a: Vec3, b: Vec3| {
+        if e == 0.0 {
+            top_left(a, b)
+        } else {
+            (e > 0.0) == (det > 0.0)
+        }
+    };
     if !(inside(e0, p1, p2) && inside(e1, p2, p0) && inside(e2, p0, p1)) {
         return None;
     }
@@ -73,7 +79,11 @@ mod tests {
     use super::*;
     use penumbra_core::Pcg32;
 
-    const TRI: [Vec3; 3] = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+    const TRI: [Vec3; 3] = [
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+    ];
 
     #[test]
     fn hit_miss_and_barycentrics() {
@@ -85,20 +95,34 @@ mod tests {
         assert!(intersect_triangle(&Ray::new(Vec3::new(0.25, 0.25, -1.0), Vec3::Z), TRI, f32::INFINITY).is_some());
         assert!(intersect_triangle(&Ray::new(Vec3::new(0.75, 0.75, 1.0), Vec3::NEG_Z), TRI, f32::INFINITY).is_none());
         assert!(intersect_triangle(&ray, TRI, 0.5).is_none(), "t_max respected");
-        assert!(intersect_triangle(&Ray::new(Vec3::new(0.25, 0.25, 1.0), Vec3::Z), TRI, 9.0).is_none(), "behind");
+        assert!(
+            intersect_triangle(&Ray::new(Vec3::new(0.25, 0.25, 1.0), Vec3::Z), TRI, 9.0).is_none(),
+            "behind"
+        );
     }
 
     #[test]
     fn axis_aligned_ray_exactly_on_the_edge_hits_one() {
-        let a = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0)];
-        let b = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        let a = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+        ];
+        let b = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ];
         for (origin, dir) in [
             (Vec3::new(0.5, 0.5, 1.0), Vec3::NEG_Z),
             (Vec3::new(0.5, 0.5, -1.0), Vec3::Z),
             (Vec3::new(0.25, 0.25, 2.0), Vec3::new(0.25, 0.25, -2.0)),
         ] {
             let ray = Ray::new(origin, dir);
-            let hits = [a, b].iter().filter(|&&tri| intersect_triangle(&ray, tri, f32::INFINITY).is_some()).count();
+            let hits = [a, b]
+                .iter()
+                .filter(|&&tri| intersect_triangle(&ray, tri, f32::INFINITY).is_some())
+                .count();
             assert_eq!(hits, 1, "{origin} {dir}");
         }
     }
@@ -118,15 +142,30 @@ mod tests {
     fn shared_edge_is_watertight() {
         // Two triangles sharing the diagonal of the unit square, hit by rays aimed at points of
         // the diagonal from random origins: each ray hits exactly one triangle.
-        let a = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0)];
-        let b = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        let a = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+        ];
+        let b = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ];
         let mut rng = Pcg32::new(1, 2);
         for _ in 0..20_000 {
             let s = rng.next_f32();
             let target = Vec3::new(s, s, 0.0);
-            let origin = Vec3::new(rng.next_f32() * 4.0 - 2.0, rng.next_f32() * 4.0 - 2.0, 0.5 + rng.next_f32() * 3.0);
+            let origin = Vec3::new(
+                rng.next_f32() * 4.0 - 2.0,
+                rng.next_f32() * 4.0 - 2.0,
+                0.5 + rng.next_f32() * 3.0,
+            );
             let ray = Ray::new(origin, target - origin);
-            let hits = [a, b].iter().filter(|&&tri| intersect_triangle(&ray, tri, f32::INFINITY).is_some()).count();
+            let hits = [a, b]
+                .iter()
+                .filter(|&&tri| intersect_triangle(&ray, tri, f32::INFINITY).is_some())
+                .count();
             assert_eq!(hits, 1, "ray through the shared edge at {target}");
         }
     }

@@ -1,0 +1,30 @@
+//! Cameras: map a position on the film (in pixels, y down) to a ray into the scene.
+//!
+//! Both cameras are placed by a look-at: `position`, `target`, `up` (default `[0, 1, 0]`).
+//! Adding a camera: a new file with `generate_ray`, one variant and one match arm.
+
+mod orthographic;
+mod perspective;
+
+pub use orthographic::Orthographic;
+pub use perspective::{FovAxis, Perspective};
+
+use glam::Vec2;
+use penumbra_core::Ray;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Camera {
+    Perspective(Perspective),
+    Orthographic(Orthographic),
+}
+
+impl Camera {
+    /// The ray through film position `film` (pixels; (0, 0) is the top-left corner of the
+    /// image, (width, height) the bottom-right). Directions are unit length.
+    pub fn generate_ray(&self, film: Vec2) -> Ray {
+        match self {
+            Camera::Perspective(c) => c.generate_ray(film),
+            Camera::Orthographic(c) => c.generate_ray(film),
+        }
+    }
+}

@@ -1,0 +1,69 @@
+//! The film: per-pixel weighted sums of radiance samples in linear float RGB, with sample
+//! counts and a count of rejected (NaN or infinite) samples.
+
+use penumbra_core::Rgb;
+
+/// One pixel's accumulated samples.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Pixel {
+    /// Sum of filter weight times radiance.
+    pub sum: Rgb,
+    /// Sum of filter weights.
+    pub weight: f32,
+    pub samples: u32,
+}
+
+impl Pixel {
+    pub fn add(&mut self, radiance: Rgb, weight: f32) {
+        self.sum += radiance * weight;
+        self.weight += weight;
+        self.samples += 1;
+    }
+
+    /// The pixel's estimate: the weighted mean of its samples (black without samples).
+    pub fn value(&self) -> Rgb {
+        if self.weight > 0.0 {
+            self.sum / self.weight
+        } else {
+            Rgb::BLACK
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Film {
+    pub width: u32,
+    pub height: u32,
+    pixels: Vec<Pixel>,
+    /// Samples dropped because their radiance was not finite.
+    pub rejected: u64,
+}
+
+impl Film {
+    pub fn new(width: u32, height: u32) -> Self {
+        Film {
+            width,
+            height,
+            pixels: vec![Pixel::default(); (width * height) as usize],
+            rejected: 0,
+        }
+    }
+
+    pub fn pixel(&self, x: u32, y: u32) -> &Pixel {
+        &self.pixels[(y * self.width + x) as usize]
+    }
+
+    pub fn pixel_mut(&mut self, x: u32, y: u32) -> &mut Pixel {
+        &mut self.pixels[(y * self.width + x) as usize]
+    }
+
+    /// The image: every pixel's estimate, row by row from the top.
+    pub fn image(&self) -> Vec<Rgb> {
+        self.pixels.iter().map(Pixel::value).collect()
+    }
+
+    /// Total samples taken.
+    pub fn samples(&self) -> u64 {
+        self.pixels.iter().map(|p| p.samples as u64).sum()
+    }
+}

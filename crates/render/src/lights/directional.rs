@@ -1,0 +1,32 @@
+//! A directional (distant) light: parallel light travelling along `direction`, with
+//! irradiance `irradiance` on a surface facing it.
+//!
+//! Native format: `type = "directional"`, `direction` (required, the way the light
+//! travels), `irradiance` (colour, default `[1, 1, 1]`).
+
+use super::LightSample;
+use glam::Vec3;
+use penumbra_core::Rgb;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Directional {
+    /// Unit direction of travel.
+    pub direction: Vec3,
+    pub irradiance: Rgb,
+}
+
+impl Directional {
+    pub fn sample_li(&self, _p: Vec3) -> Option<LightSample> {
+        (!self.irradiance.is_black()).then(|| LightSample {
+            wi: -self.direction,
+            li: self.irradiance,
+            dist: f32::INFINITY,
+            pdf: 1.0,
+            delta: true,
+        })
+    }
+
+    pub fn power(&self, scene_radius: f32) -> f32 {
+        std::f32::consts::PI * scene_radius * scene_radius * self.irradiance.luminance()
+    }
+}

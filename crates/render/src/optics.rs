@@ -1,0 +1,114 @@
+//! Reflection, refraction and the Fresnel equations for dielectrics.
+//!
+//! Directions point away from the surface (`wi`, `wo`), and `n` is on the side of the
+//! incident direction; `eta` is the relative index `n_t / n_i` (transmitted over incident).
+
+use glam::Vec3;
+
+/// Mirror reflection of `wo` about `n`.
+pub fn reflect(wo: Vec3, n: Vec3) -> Vec3 {
+    2.0 * wo.dot(n) * n - wo
+}
+
+/// The refracted direction by Snell's law, `None` on total internal reflection.
+/// `wi` and `n` on the same side; the result is on the other side of the surface.
+pub fn refract(wi: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+    let cos_i = wi.dot(n);
+    let sin2_t = (1.0 - cos_i * cos_i).max(0.0) / (eta * eta);
+    if sin2_t >= 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    Some(-wi / eta + (cos_i / eta - cos_t) * n)
+}
+
+/// Unpolarised Fresnel reflectance of a dielectric interface (the exact equations, e.g.
+/// pbrt-v4 eq. 9.5-9.6) for incidence cosine `cos_i` in [0, 1]; 1 on total internal reflection.
+pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
+    let cos_i = cos_i.clamp(0.0, 1.0);
+    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    let r_parallel = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let r_perpendicular = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    0.5 * (r_parallel * r_parallel + r_perpendicular * r_perpendicular)
+}
+
+/// The critical angle (radians) beyond which light inside a medium of relative index
+/// `1 / eta` (`eta` < 1) is totally reflected.
+pub fn critical_angle(eta: f32) -> Option<f32> {
+    (eta < 1.0).then(|| eta.asin())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn normal_incidence_glass_reflects_four_percent() {
+        assert!((fresnel_dielectric(1.0, 1.5) - 0.04).abs() < 1e-6);
+        // Same from the inside.
+        assert!((fresnel_dielectric(1.0, 1.0 / 1.5) - 0.04).abs() < 1e-6);
+    }
+
+    #[test]
+    fn critical_angle_and_total_internal_reflection() {
+        let theta_c = critical_angle(1.0 / 1.5).unwrap().to_degrees();
+        assert!((theta_c - 41.81).abs() < 0.005, "{theta_c}");
+        let n = Vec3::Z;
+        for (deg, tir) in [(41.7, false), (41.9, true), (60.0, true), (10.0, false)] {
+            let t = (deg as f32).to_radians();
+            let wi = Vec3::new(t.sin(), 0.0, t.cos());
+            assert_eq!(refract(wi, n, 1.0 / 1.5).is_none(), tir, "{deg} degrees");
+            assert_eq!(fresnel_dielectric(t.cos(), 1.0 / 1.5) == 1.0, tir, "{deg} degrees");
+        }
+        assert!(critical_angle(1.5).is_none());
+    }
+
+    #[test]
+    fn snell_and_reflection_identities() {
+        let n = Vec3::Z;
+        for deg in [0.0f32, 15.0, 30.0, 60.0, 89.0] {
+            let t = deg.to_radians();
+            let wi = Vec3::new(t.sin(), 0.0, t.cos());
+            let r = reflect(wi, n);
+            assert!((r.length() - 1.0).abs() < 1e-6 && (r.z - wi.z).abs() < 1e-6 && (r.x + wi.x).abs() < 1e-6);
+            let eta = 1.5;
+            let wt = refract(wi, n, eta).unwrap();
+            assert!((wt.length() - 1.0).abs() < 1e-5);
+            assert!(wt.z < 0.0);
+            // n_i sin(theta_i) = n_t sin(theta_t).
+            let sin_t = (wt.x * wt.x + wt.y * wt.y).sqrt();
+            assert!((t.sin() - eta * sin_t).abs() < 1e-5);
+            // Refracting back reverses the path.
+            let back = refract(wt, -n, 1.0 / eta).unwrap();
+            assert!((back - wi).length() < 1e-4, "{back} vs {wi}");
+        }
+    }
+
+    #[test]
+    fn reflectance_and_transmittance_sum_to_one() {
+        // R + T = 1 with T from the transmitted Fresnel amplitudes, with the beam-area
+        // factor: T = (n_t cos_t / n_i cos_i) (t_s^2 + t_p^2) / 2.
+        for eta in [1.33f32, 1.5, 2.4, 1.0 / 1.5] {
+            for deg in [0.0f32, 20.0, 40.0, 41.0, 70.0, 89.0] {
+                let cos_i = deg.to_radians().cos();
+                let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+                if sin2_t >= 1.0 {
+                    continue;
+                }
+                let cos_t = (1.0 - sin2_t).sqrt();
+                let t_s = 2.0 * cos_i / (cos_i + eta * cos_t);
+                let t_p = 2.0 * cos_i / (eta * cos_i + cos_t);
+                let transmitted = eta * cos_t / cos_i * 0.5 * (t_s * t_s + t_p * t_p);
+                let r = fresnel_dielectric(cos_i, eta);
+                assert!(
+                    (r + transmitted - 1.0).abs() < 1e-5,
+                    "eta {eta} at {deg}: R {r} T {transmitted}"
+                );
+            }
+        }
+    }
+}

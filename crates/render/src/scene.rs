@@ -1,0 +1,52 @@
+//! The renderable scene: camera, film settings, geometry with its accelerator, materials
+//! and lights. Built from a scene description by `penumbra-scene`.
+
+use crate::{Camera, Filter, Light, Material};
+use glam::Vec3;
+use penumbra_core::{Ray, Rgb};
+use penumbra_geometry::{Accel, Geometry, SurfaceHit};
+use std::sync::Arc;
+
+pub struct Scene {
+    pub camera: Camera,
+    pub width: u32,
+    pub height: u32,
+    pub filter: Filter,
+    pub geometry: Arc<Geometry>,
+    pub accel: Box<dyn Accel>,
+    pub materials: Vec<Material>,
+    /// The material of each scene object (as numbered by the geometry builder).
+    pub object_materials: Vec<u32>,
+    pub lights: Vec<Light>,
+    /// Radiance of rays that leave the scene.
+    pub background: Rgb,
+    /// Ambient light, reflected by the diffuse albedo of every surface.
+    pub ambient: Rgb,
+}
+
+/// A ray's closest surface hit, with what shading needs.
+pub struct Interaction<'a> {
+    pub surface: SurfaceHit,
+    pub material: &'a Material,
+    /// Unit direction back along the ray.
+    pub wo: Vec3,
+}
+
+impl Scene {
+    /// The closest surface along `ray` in `(0, t_max)`.
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Interaction<'_>> {
+        let hit = self.accel.intersect(ray, t_max)?;
+        let surface = self.geometry.surface(ray, &hit);
+        let material = &self.materials[self.object_materials[surface.object as usize] as usize];
+        Some(Interaction {
+            surface,
+            material,
+            wo: -ray.dir.normalize(),
+        })
+    }
+
+    /// Whether anything blocks `ray` in `(0, t_max)`.
+    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.accel.occluded(ray, t_max)
+    }
+}
