@@ -1,1 +1,78 @@
+//! Penumbra, a physically based CPU renderer.
+//!
+//! This crate is the library's front door: it re-exports the layers (`penumbra_core`,
+//! `penumbra_geometry`, `penumbra_render`, `penumbra_scene`) and adds the few calls a
+//! program needs to go from a scene description to an image:
+//!
+//! ```no_run
+//! let desc = penumbra::default_scene();
+//! let result = penumbra::render(&desc, &penumbra::RenderControl::default()).unwrap();
+//! let pixels = result.film.image();
+//! penumbra::scene::image_io::write_image(
+//!     std::path::Path::new("out.png"),
+//!     &penumbra::scene::image_io::Image { width: result.film.width, height: result.film.height, pixels: &pixels },
+//!     0.0,
+//! )
+//! .unwrap();
+//! ```
 
+pub use penumbra_core as math;
+pub use penumbra_geometry as geometry;
+pub use penumbra_render as renderer;
+pub use penumbra_scene as scene;
+
+use penumbra_render::integrators::IntegratorOptions;
+use penumbra_render::{Progress, RenderOptions, RenderResult};
+use penumbra_scene::{build_scene, SceneDesc, SceneError, SourceFile};
+use std::sync::atomic::AtomicBool;
+
+/// The source of the built-in default scene: the classic Whitted scene.
+pub const DEFAULT_SCENE_TOML: &str = include_str!("../scenes/whitted.toml");
+
+/// The built-in default scene.
+pub fn default_scene() -> SceneDesc {
+    let file = SourceFile::new("<built-in>/whitted.toml", DEFAULT_SCENE_TOML.to_string());
+    penumbra_scene::formats::native::read(&file).expect("the built-in scene is valid")
+}
+
+/// How a render is run: progress reporting and cancellation.
+pub struct RenderControl<'a> {
+    pub progress: &'a dyn Progress,
+    /// Set to stop the render early; what is done is kept.
+    pub cancel: &'a AtomicBool,
+}
+
+static NEVER: AtomicBool = AtomicBool::new(false);
+
+impl Default for RenderControl<'_> {
+    fn default() -> Self {
+        RenderControl {
+            progress: &(),
+            cancel: &NEVER,
+        }
+    }
+}
+
+/// Builds `desc` and renders it with the integrator and settings it names, in the current
+/// rayon thread pool.
+pub fn render(desc: &SceneDesc, control: &RenderControl) -> Result<RenderResult, SceneError> {
+    let scene = build_scene(desc)?;
+    let r = &desc.render;
+    let integrator = r.integrator.create(IntegratorOptions {
+        max_depth: r.max_depth,
+        min_weight: r.min_weight,
+    });
+    let options = RenderOptions {
+        spp: r.spp,
+        seed: r.seed,
+        sampler: r.sampler,
+        ..RenderOptions::default()
+    };
+    Ok(penumbra_render::render(
+        &scene,
+        integrator.as_ref(),
+        &options,
+        control.progress,
+        control.cancel,
+    ))
+}

@@ -1,0 +1,123 @@
+//! Turns a [`SceneDesc`] into a renderable [`Scene`]: shapes placed in world space, shared
+//! meshes given one accelerator each, the top-level accelerator built, lights and camera
+//! set up.
+
+use crate::desc::{CameraKind, LightDesc, SceneDesc, ShapeKind};
+use crate::{Location, SceneError};
+use penumbra_core::Transform;
+use penumbra_geometry::shapes::{Cuboid, Disk, Plane, Quad, Sphere};
+use penumbra_geometry::{GeometryBuilder, Instance, MeshAccel, Shape};
+use penumbra_render::cameras::{Orthographic, Perspective};
+use penumbra_render::lights::{Directional, Point, Spot};
+use penumbra_render::materials::Phong;
+use penumbra_render::{Camera, Light, Material, Scene};
+use std::sync::Arc;
+
+/// Builds the scene with the accelerator the description asks for.
+pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
+    let fail = |loc: &Option<Location>, message: &str| match loc {
+        Some(l) => SceneError::at(l.clone(), message),
+        None => SceneError::Io {
+            path: "<scene>".into(),
+            message: message.to_string(),
+        },
+    };
+
+    let mut materials: Vec<Material> = desc.materials.iter().map(|m| m.material.clone()).collect();
+    let default_material = materials.len() as u32;
+    materials.push(Material::Phong(Phong::default()));
+
+    let shared: Vec<Arc<MeshAccel>> = desc
+        .meshes
+        .iter()
+        .map(|m| Arc::new(MeshAccel::new(m.clone(), desc.render.accel)))
+        .collect();
+    let mut builder = GeometryBuilder::new();
+    let mut object_materials = Vec::with_capacity(desc.shapes.len());
+    for s in &desc.shapes {
+        let t = &s.transform;
+        let degenerate = |what: &str| fail(&s.location, &format!("the {what} is degenerate under its transform"));
+        let shape = match &s.kind {
+            ShapeKind::Sphere { center, radius } => Some(Shape::Sphere(Sphere::new(*center, *radius, t))),
+            ShapeKind::Plane { point, normal } => Some(Shape::Plane(
+                Plane::new(*point, *normal, t).ok_or_else(|| degenerate("plane"))?,
+            )),
+            ShapeKind::Quad { corner, edge1, edge2 } => Some(Shape::Quad(
+                Quad::new(*corner, *edge1, *edge2, t).ok_or_else(|| degenerate("quad"))?,
+            )),
+            ShapeKind::Disk { center, normal, radius } => Some(Shape::Disk(
+                Disk::new(*center, *normal, *radius, t).ok_or_else(|| degenerate("disk"))?,
+            )),
+            ShapeKind::Box { min, max } => Some(Shape::Cuboid(
+                Cuboid::new(*min, *max, t).ok_or_else(|| degenerate("box"))?,
+            )),
+            ShapeKind::Mesh(_) | ShapeKind::Instance { .. } => None,
+        };
+        let object = match (shape, &s.kind) {
+            (Some(shape), _) => builder.add_shape(shape),
+            (None, ShapeKind::Mesh(mesh)) => builder.add_mesh(mesh.transformed(t)),
+            (None, ShapeKind::Instance { mesh }) => builder.add_instance(Instance::new(shared[*mesh].clone(), t)),
+            (None, _) => unreachable!("every analytic shape was converted above"),
+        };
+        debug_assert_eq!(object as usize, object_materials.len());
+        object_materials.push(s.material.map_or(default_material, |m| m as u32));
+    }
+    let geometry = Arc::new(builder.build());
+    let accel = geometry.accel(desc.render.accel);
+
+    let r = &desc.render;
+    let c = &desc.camera;
+    let to_world = Transform::look_at(c.position, c.target, c.up).ok_or_else(|| {
+        fail(
+            &c.location,
+            "the camera's view direction is zero or parallel to its up vector",
+        )
+    })?;
+    let camera = match c.kind {
+        CameraKind::Perspective { fov, fov_axis } => {
+            Camera::Perspective(Perspective::new(to_world, fov, fov_axis, r.width, r.height))
+        }
+        CameraKind::Orthographic { height } => {
+            Camera::Orthographic(Orthographic::new(to_world, height, r.width, r.height))
+        }
+    };
+
+    let lights = desc
+        .lights
+        .iter()
+        .map(|l| match *l {
+            LightDesc::Point { position, intensity } => Light::Point(Point { position, intensity }),
+            LightDesc::Spot {
+                position,
+                target,
+                intensity,
+                cone_angle,
+                falloff_start,
+            } => Light::Spot(Spot::new(
+                position,
+                target - position,
+                intensity,
+                cone_angle,
+                falloff_start,
+            )),
+            LightDesc::Directional { direction, irradiance } => Light::Directional(Directional {
+                direction: direction.normalize(),
+                irradiance,
+            }),
+        })
+        .collect();
+
+    Ok(Scene {
+        camera,
+        width: r.width,
+        height: r.height,
+        filter: r.filter,
+        geometry,
+        accel,
+        materials,
+        object_materials,
+        lights,
+        background: desc.background,
+        ambient: desc.ambient,
+    })
+}

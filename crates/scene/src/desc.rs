@@ -1,0 +1,170 @@
+//! The format-neutral scene description every reader produces and the builder consumes.
+//! Values are validated by the readers; each item keeps the location it came from so that
+//! the builder's errors point into the scene file too.
+
+use crate::Location;
+use glam::Vec3;
+use penumbra_core::{Rgb, SamplerKind, Transform};
+use penumbra_geometry::{AccelKind, TriangleMesh};
+use penumbra_render::cameras::FovAxis;
+use penumbra_render::integrators::IntegratorKind;
+use penumbra_render::{Filter, Material};
+use std::sync::Arc;
+
+#[derive(Clone, Debug)]
+pub struct SceneDesc {
+    pub render: RenderDesc,
+    pub camera: CameraDesc,
+    pub background: Rgb,
+    pub ambient: Rgb,
+    pub materials: Vec<MaterialDesc>,
+    /// Meshes that instances share.
+    pub meshes: Vec<Arc<TriangleMesh>>,
+    pub shapes: Vec<ShapeDesc>,
+    pub lights: Vec<LightDesc>,
+}
+
+/// Image and sampling settings; the command line may override them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderDesc {
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    pub seed: u64,
+    pub integrator: IntegratorKind,
+    pub max_depth: u32,
+    pub min_weight: f32,
+    pub sampler: SamplerKind,
+    pub filter: Filter,
+    pub accel: AccelKind,
+}
+
+impl Default for RenderDesc {
+    fn default() -> Self {
+        RenderDesc {
+            width: 640,
+            height: 480,
+            spp: 4,
+            seed: 0,
+            integrator: IntegratorKind::Whitted,
+            max_depth: 5,
+            min_weight: 1e-3,
+            sampler: SamplerKind::default(),
+            filter: Filter::default(),
+            accel: AccelKind::default(),
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct CameraDesc {
+    pub kind: CameraKind,
+    pub position: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    pub location: Option<Location>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum CameraKind {
+    Perspective { fov: f32, fov_axis: FovAxis },
+    Orthographic { height: f32 },
+}
+
+impl Default for CameraDesc {
+    fn default() -> Self {
+        CameraDesc {
+            kind: CameraKind::Perspective {
+                fov: 45.0,
+                fov_axis: FovAxis::Y,
+            },
+            position: Vec3::new(0.0, 0.0, 5.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            location: None,
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct MaterialDesc {
+    pub name: String,
+    pub material: Material,
+}
+
+#[derive(Clone, Debug)]
+pub struct ShapeDesc {
+    pub kind: ShapeKind,
+    /// Object to world.
+    pub transform: Transform,
+    /// Index into [`SceneDesc::materials`]; `None` for the default material.
+    pub material: Option<usize>,
+    pub location: Option<Location>,
+}
+
+#[derive(Clone, Debug)]
+pub enum ShapeKind {
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+    Plane {
+        point: Vec3,
+        normal: Vec3,
+    },
+    Quad {
+        corner: Vec3,
+        edge1: Vec3,
+        edge2: Vec3,
+    },
+    Disk {
+        center: Vec3,
+        normal: Vec3,
+        radius: f32,
+    },
+    Box {
+        min: Vec3,
+        max: Vec3,
+    },
+    /// A mesh in object space, copied into world space.
+    Mesh(Arc<TriangleMesh>),
+    /// An instance of `SceneDesc::meshes[mesh]`.
+    Instance {
+        mesh: usize,
+    },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum LightDesc {
+    Point {
+        position: Vec3,
+        intensity: Rgb,
+    },
+    Spot {
+        position: Vec3,
+        target: Vec3,
+        intensity: Rgb,
+        cone_angle: f32,
+        falloff_start: f32,
+    },
+    Directional {
+        direction: Vec3,
+        irradiance: Rgb,
+    },
+}
+
+impl SceneDesc {
+    /// An empty scene: default camera and settings, nothing in it.
+    pub fn empty() -> Self {
+        SceneDesc {
+            render: RenderDesc::default(),
+            camera: CameraDesc::default(),
+            background: Rgb::BLACK,
+            ambient: Rgb::BLACK,
+            materials: Vec::new(),
+            meshes: Vec::new(),
+            shapes: Vec::new(),
+            lights: Vec::new(),
+        }
+    }
+}

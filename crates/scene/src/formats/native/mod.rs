@@ -1,0 +1,231 @@
+//! The native scene format: TOML, documented key by key in `docs/scene-format.md`.
+//!
+//! Top-level tables: `[render]` (image and sampling settings), `[camera]`, `[world]`
+//! (background and ambient light), and arrays `[[material]]`, `[[mesh]]` (shared meshes for
+//! instancing), `[[shape]]` and `[[light]]`. Paths are relative to the scene file.
+
+mod material;
+mod shape;
+
+use crate::desc::{CameraDesc, CameraKind, LightDesc, RenderDesc, SceneDesc};
+use crate::params::{parse_toml, Result, Table, Value};
+use crate::SourceFile;
+use glam::Vec3;
+use penumbra_core::{Rgb, SamplerKind};
+use penumbra_geometry::AccelKind;
+use penumbra_render::cameras::FovAxis;
+use penumbra_render::integrators::IntegratorKind;
+use penumbra_render::Filter;
+use std::sync::Arc;
+
+/// Reads a native scene from its source text.
+pub fn read(file: &Arc<SourceFile>) -> Result<SceneDesc> {
+    let root = parse_toml(file)?;
+    let top = Table::new(file, root.get_ref(), root.span());
+    let mut desc = SceneDesc::empty();
+    if let Some(t) = top.table("render")? {
+        desc.render = read_render(&t)?;
+        t.finish()?;
+    }
+    if let Some(t) = top.table("camera")? {
+        desc.camera = read_camera(&t)?;
+        t.finish()?;
+    }
+    if let Some(t) = top.table("world")? {
+        desc.background = t.rgb_or("background", Rgb::BLACK)?;
+        desc.ambient = t.rgb_or("ambient", Rgb::BLACK)?;
+        t.finish()?;
+    }
+    let materials = material::read_all(&top.tables("material")?)?;
+    let meshes = shape::read_meshes(file, &top.tables("mesh")?)?;
+    for t in top.tables("shape")? {
+        desc.shapes.push(shape::read(file, &t, &materials, &meshes)?);
+        t.finish()?;
+    }
+    desc.materials = materials;
+    desc.meshes = meshes.into_iter().map(|(_, m)| m).collect();
+    for t in top.tables("light")? {
+        desc.lights.push(read_light(&t)?);
+        t.finish()?;
+    }
+    top.finish()?;
+    Ok(desc)
+}
+
+/// A value that must be one of `names`, with the list in the error.
+pub(crate) fn choice<T>(v: &Value, what: &str, names: &[&str], parse: impl Fn(&str) -> Option<T>) -> Result<T> {
+    let s = v.str()?;
+    parse(s).ok_or_else(|| {
+        v.error(format!("unknown {what} `{s}`"))
+            .label(format!("unknown {what}"))
+            .help(format!("expected one of: {}", names.join(", ")))
+    })
+}
+
+fn read_render(t: &Table) -> Result<RenderDesc> {
+    let d = RenderDesc::default();
+    let positive_u32 = |key: &str, default: u32| -> Result<u32> {
+        match t.get(key) {
+            None => Ok(default),
+            Some(v) => match v.u32()? {
+                0 => Err(v.error(format!("`{key}` must be at least 1")).label("must be >= 1")),
+                n => Ok(n),
+            },
+        }
+    };
+    let integrator = match t.get("integrator") {
+        Some(v) => choice(&v, "integrator", &IntegratorKind::NAMES, IntegratorKind::from_name)?,
+        None => d.integrator,
+    };
+    let sampler = match t.get("sampler") {
+        Some(v) => choice(&v, "sampler", &SamplerKind::NAMES, SamplerKind::from_name)?,
+        None => d.sampler,
+    };
+    let accel = match t.get("accel") {
+        Some(v) => choice(&v, "accelerator", &AccelKind::NAMES, AccelKind::from_name)?,
+        None => d.accel,
+    };
+    let min_weight = t.f32_or("min_weight", d.min_weight)?;
+    if min_weight < 0.0 {
+        return Err(t.require("min_weight")?.error("`min_weight` must not be negative"));
+    }
+    Ok(RenderDesc {
+        width: positive_u32("width", d.width)?,
+        height: positive_u32("height", d.height)?,
+        spp: positive_u32("spp", d.spp)?,
+        seed: t.u32_or("seed", d.seed as u32)? as u64,
+        integrator,
+        max_depth: t.u32_or("max_depth", d.max_depth)?,
+        min_weight,
+        sampler,
+        filter: match t.table("filter")? {
+            Some(f) => {
+                let filter = read_filter(&f)?;
+                f.finish()?;
+                filter
+            }
+            None => d.filter,
+        },
+        accel,
+    })
+}
+
+fn read_filter(t: &Table) -> Result<Filter> {
+    let names = ["box", "tent", "gaussian"];
+    let kind = choice(&t.require("type")?, "filter", &names, |s| {
+        names.iter().find(|&&n| n == s).copied()
+    })?;
+    Ok(match kind {
+        "box" => Filter::Box {
+            radius: t.positive_or("radius", 0.5)?,
+        },
+        "tent" => Filter::Tent {
+            radius: t.positive_or("radius", 1.0)?,
+        },
+        _ => Filter::Gaussian {
+            radius: t.positive_or("radius", 1.5)?,
+            sigma: t.positive_or("sigma", 0.5)?,
+        },
+    })
+}
+
+fn nonzero(t: &Table, key: &str, default: Vec3) -> Result<Vec3> {
+    let v = t.vec3_or(key, default)?;
+    if v.length_squared() == 0.0 {
+        let at = t.get(key).map_or_else(|| t.location(), |v| v.location());
+        return Err(
+            crate::SceneError::at(at, format!("`{key}` must not be a zero-length vector")).label("zero length"),
+        );
+    }
+    Ok(v)
+}
+
+fn read_camera(t: &Table) -> Result<CameraDesc> {
+    let names = ["perspective", "orthographic"];
+    let kind = match t.get("type") {
+        Some(v) => choice(&v, "camera type", &names, |s| names.iter().find(|&&n| n == s).copied())?,
+        None => "perspective",
+    };
+    let position = t.vec3_or("position", Vec3::new(0.0, 0.0, 5.0))?;
+    let target = t.vec3_or("target", Vec3::ZERO)?;
+    let up = nonzero(t, "up", Vec3::Y)?;
+    let kind = match kind {
+        "orthographic" => CameraKind::Orthographic {
+            height: t.positive_or("height", 2.0)?,
+        },
+        _ => {
+            let fov = t.f32_or("fov", 45.0)?;
+            if !(fov > 0.0 && fov < 180.0) {
+                let v = t.require("fov")?;
+                return Err(v
+                    .error(format!("`fov` must be between 0 and 180 degrees, found {fov}"))
+                    .label("out of range"));
+            }
+            let fov_axis = match t.get("fov_axis") {
+                Some(v) => choice(&v, "fov_axis", &["x", "y", "smaller", "larger"], |s| match s {
+                    "x" => Some(FovAxis::X),
+                    "y" => Some(FovAxis::Y),
+                    "smaller" => Some(FovAxis::Smaller),
+                    "larger" => Some(FovAxis::Larger),
+                    _ => None,
+                })?,
+                None => FovAxis::Y,
+            };
+            CameraKind::Perspective { fov, fov_axis }
+        }
+    };
+    let forward = target - position;
+    if forward.length_squared() == 0.0
+        || forward.cross(up).length_squared() <= 1e-12 * forward.length_squared() * up.length_squared()
+    {
+        return Err(t
+            .error("the camera's view direction (target - position) is zero or parallel to `up`")
+            .label("in this camera"));
+    }
+    Ok(CameraDesc {
+        kind,
+        position,
+        target,
+        up,
+        location: Some(t.location()),
+    })
+}
+
+fn read_light(t: &Table) -> Result<LightDesc> {
+    let names = ["point", "spot", "directional"];
+    let kind = choice(&t.require("type")?, "light type", &names, |s| {
+        names.iter().find(|&&n| n == s).copied()
+    })?;
+    Ok(match kind {
+        "point" => LightDesc::Point {
+            position: t.require("position")?.vec3()?,
+            intensity: t.rgb_or("intensity", Rgb::WHITE)?,
+        },
+        "spot" => {
+            let position = t.require("position")?.vec3()?;
+            let target = t.vec3_or("target", position - Vec3::Y)?;
+            if target == position {
+                return Err(t
+                    .require("target")?
+                    .error("a spot light's `target` must differ from its `position`"));
+            }
+            let cone_angle = t.positive_or("cone_angle", 30.0)?;
+            if cone_angle > 180.0 {
+                return Err(t
+                    .require("cone_angle")?
+                    .error("`cone_angle` must be at most 180 degrees"));
+            }
+            LightDesc::Spot {
+                position,
+                target,
+                intensity: t.rgb_or("intensity", Rgb::WHITE)?,
+                cone_angle,
+                falloff_start: t.f32_or("falloff_start", cone_angle.min(25.0))?.clamp(0.0, cone_angle),
+            }
+        }
+        _ => LightDesc::Directional {
+            direction: nonzero(t, "direction", Vec3::NEG_Y)?,
+            irradiance: t.rgb_or("irradiance", Rgb::WHITE)?,
+        },
+    })
+}

@@ -1,0 +1,230 @@
+//! `[[shape]]` and `[[mesh]]` tables, and the `transform` key.
+//!
+//! Every shape takes `material` (a material's name; the default is grey diffuse) and
+//! `transform`: a list of steps applied in order, each `{ translate = [x, y, z] }`,
+//! `{ scale = s }` or `{ scale = [x, y, z] }`, `{ rotate = degrees, axis = [x, y, z] }` or
+//! `{ matrix = [16 numbers, row by row] }`.
+
+use super::choice;
+use crate::desc::{MaterialDesc, ShapeDesc, ShapeKind};
+use crate::formats::{obj, ply};
+use crate::params::{Result, Table, Value};
+use crate::{SceneError, SourceFile};
+use glam::{Mat4, Vec2, Vec3};
+use penumbra_core::Transform;
+use penumbra_geometry::TriangleMesh;
+use std::sync::Arc;
+
+const SHAPES: [&str; 7] = ["sphere", "plane", "quad", "disk", "box", "mesh", "instance"];
+
+/// Reads the `[[mesh]]` tables: named meshes for instancing.
+pub fn read_meshes(file: &Arc<SourceFile>, tables: &[Table]) -> Result<Vec<(String, Arc<TriangleMesh>)>> {
+    let mut out: Vec<(String, Arc<TriangleMesh>)> = Vec::new();
+    for t in tables {
+        let name_value = t.require("name")?;
+        let name = name_value.str()?.to_string();
+        if out.iter().any(|(n, _)| *n == name) {
+            return Err(name_value
+                .error(format!("mesh `{name}` is defined twice"))
+                .label("second definition"));
+        }
+        let mesh = mesh_source(file, t)?;
+        t.finish()?;
+        out.push((name, Arc::new(mesh)));
+    }
+    Ok(out)
+}
+
+pub fn read(
+    file: &Arc<SourceFile>,
+    t: &Table,
+    materials: &[MaterialDesc],
+    meshes: &[(String, Arc<TriangleMesh>)],
+) -> Result<ShapeDesc> {
+    let kind_value = t.require("type")?;
+    let kind = choice(&kind_value, "shape type", &SHAPES, |s| {
+        SHAPES.iter().find(|&&n| n == s).copied()
+    })?;
+    let kind = match kind {
+        "sphere" => ShapeKind::Sphere {
+            center: t.vec3_or("center", Vec3::ZERO)?,
+            radius: t.positive_or("radius", 1.0)?,
+        },
+        "plane" => ShapeKind::Plane {
+            point: t.vec3_or("point", Vec3::ZERO)?,
+            normal: nonzero(t, "normal", Vec3::Y)?,
+        },
+        "quad" => ShapeKind::Quad {
+            corner: t.vec3_or("corner", Vec3::new(-1.0, -1.0, 0.0))?,
+            edge1: nonzero(t, "edge1", Vec3::new(2.0, 0.0, 0.0))?,
+            edge2: nonzero(t, "edge2", Vec3::new(0.0, 2.0, 0.0))?,
+        },
+        "disk" => ShapeKind::Disk {
+            center: t.vec3_or("center", Vec3::ZERO)?,
+            normal: nonzero(t, "normal", Vec3::Y)?,
+            radius: t.positive_or("radius", 1.0)?,
+        },
+        "box" => {
+            let min = t.vec3_or("min", Vec3::splat(-1.0))?;
+            let max = t.vec3_or("max", Vec3::ONE)?;
+            if !min.cmplt(max).all() {
+                let at = t.get("max").map_or_else(|| t.location(), |v| v.location());
+                return Err(
+                    SceneError::at(at, "a box's `max` must exceed its `min` on every axis").label("not above min")
+                );
+            }
+            ShapeKind::Box { min, max }
+        }
+        "mesh" => ShapeKind::Mesh(Arc::new(mesh_source(file, t)?)),
+        _ => {
+            let v = t.require("mesh")?;
+            let name = v.str()?;
+            let mesh = meshes.iter().position(|(n, _)| n == name).ok_or_else(|| {
+                v.error(format!("no mesh named `{name}`"))
+                    .label("unknown mesh")
+                    .help(format!(
+                        "define it in a [[mesh]] table; defined: {}",
+                        names(meshes.iter().map(|m| &m.0))
+                    ))
+            })?;
+            ShapeKind::Instance { mesh }
+        }
+    };
+    let material = match t.get("material") {
+        None => None,
+        Some(v) => {
+            let name = v.str()?;
+            Some(materials.iter().position(|m| m.name == name).ok_or_else(|| {
+                v.error(format!("no material named `{name}`"))
+                    .label("unknown material")
+                    .help(format!(
+                        "defined materials: {}",
+                        names(materials.iter().map(|m| &m.name))
+                    ))
+            })?)
+        }
+    };
+    let transform = match t.get("transform") {
+        Some(v) => transform(&v)?,
+        None => Transform::IDENTITY,
+    };
+    Ok(ShapeDesc {
+        kind,
+        transform,
+        material,
+        location: Some(t.location()),
+    })
+}
+
+fn names<'a>(it: impl Iterator<Item = &'a String>) -> String {
+    let v: Vec<&str> = it.map(String::as_str).collect();
+    if v.is_empty() {
+        "none".into()
+    } else {
+        v.join(", ")
+    }
+}
+
+fn nonzero(t: &Table, key: &str, default: Vec3) -> Result<Vec3> {
+    super::nonzero(t, key, default)
+}
+
+/// A mesh from `file = "..."` (OBJ or PLY) or inline `positions`, `indices` and optional
+/// `normals` and `uvs`.
+fn mesh_source(file: &Arc<SourceFile>, t: &Table) -> Result<TriangleMesh> {
+    if let Some(v) = t.get("file") {
+        let rel = v.str()?;
+        let base = file.path.parent().unwrap_or(std::path::Path::new("."));
+        let path = base.join(rel);
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        let loaded = match ext.as_deref() {
+            Some("obj") => obj::load(&path),
+            Some("ply") => ply::load(&path),
+            _ => return Err(v.error("unsupported mesh format").label("expected a .obj or .ply file")),
+        };
+        return loaded.map_err(|e| {
+            let what = if path.exists() {
+                "cannot load mesh"
+            } else {
+                "mesh file not found"
+            };
+            v.error(format!("{what} {}: {e}", path.display())).label(what)
+        });
+    }
+    let positions = points(&t.require("positions")?)?;
+    let indices_value = t.require("indices")?;
+    let indices = indices_value
+        .array()?
+        .iter()
+        .map(|tri| {
+            let n = tri.numbers(3)?;
+            Ok([n[0], n[1], n[2]].map(|x| x as u32))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let normals = t.get("normals").map(|v| points(&v)).transpose()?;
+    let uvs = match t.get("uvs") {
+        Some(v) => Some(
+            v.array()?
+                .iter()
+                .map(|p| p.numbers(2).map(|n| Vec2::new(n[0], n[1])))
+                .collect::<Result<Vec<_>>>()?,
+        ),
+        None => None,
+    };
+    let mesh = TriangleMesh {
+        positions,
+        normals,
+        uvs,
+        indices,
+    };
+    mesh.validate()
+        .map_err(|e| indices_value.error(format!("invalid mesh: {e}")))?;
+    Ok(mesh)
+}
+
+fn points(v: &Value) -> Result<Vec<Vec3>> {
+    v.array()?.iter().map(Value::vec3).collect()
+}
+
+/// A `transform`: one step or a list of steps, applied in order.
+fn transform(v: &Value) -> Result<Transform> {
+    let steps = if v.is_table() {
+        vec![v.table()?]
+    } else {
+        v.array()?.iter().map(Value::table).collect::<Result<_>>()?
+    };
+    let mut total = Transform::IDENTITY;
+    for step in steps {
+        let singular = |v: Value| {
+            v.error("this transform step is singular (it collapses space)")
+                .label("singular")
+        };
+        let next = if let Some(v) = step.get("translate") {
+            Transform::translate(v.vec3()?)
+        } else if let Some(v) = step.get("scale") {
+            let s = if v.is_number() {
+                Vec3::splat(v.f32()?)
+            } else {
+                v.vec3()?
+            };
+            Transform::scale(s).ok_or_else(|| singular(v))?
+        } else if let Some(v) = step.get("rotate") {
+            let axis = step.require("axis")?;
+            let a = axis.vec3()?;
+            Transform::rotate(a, v.f32()?).ok_or_else(|| axis.error("the rotation axis has zero length"))?
+        } else if let Some(v) = step.get("matrix") {
+            let m = v.numbers(16)?;
+            Transform::from_matrix(Mat4::from_cols_slice(&m).transpose()).ok_or_else(|| {
+                v.error("the matrix is singular or its last row is not [0, 0, 0, 1]")
+                    .label("not affine")
+            })?
+        } else {
+            return Err(
+                step.error("a transform step needs one of `translate`, `scale`, `rotate` (with `axis`) or `matrix`")
+            );
+        };
+        step.finish()?;
+        total = total.then(next);
+    }
+    Ok(total)
+}

@@ -1,0 +1,196 @@
+//! Image output: PNG (8-bit sRGB, with exposure), OpenEXR (linear 32-bit float) and PFM
+//! (linear 32-bit float), chosen by extension. Every file is written to a temporary name
+//! in the target directory and renamed into place, so a reader never sees a partial image.
+
+use penumbra_core::Rgb;
+use std::io::{self, Write};
+use std::path::Path;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    Png,
+    Exr,
+    Pfm,
+}
+
+impl ImageFormat {
+    pub const EXTENSIONS: [&'static str; 3] = ["png", "exr", "pfm"];
+
+    pub fn from_path(path: &Path) -> Option<Self> {
+        match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+            "png" => Some(ImageFormat::Png),
+            "exr" => Some(ImageFormat::Exr),
+            "pfm" => Some(ImageFormat::Pfm),
+            _ => None,
+        }
+    }
+}
+
+/// A linear RGB image, rows from the top.
+pub struct Image<'a> {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: &'a [Rgb],
+}
+
+/// The sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
+pub fn srgb_encode(x: f32) -> f32 {
+    if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Writes `image` to `path` in the format its extension names, atomically. `exposure`
+/// (in stops) scales the values written to PNG.
+pub fn write_image(path: &Path, image: &Image, exposure: f32) -> io::Result<()> {
+    let format = ImageFormat::from_path(path).ok_or_else(|| {
+        io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!(
+                "unsupported image extension (expected .png, .exr or .pfm): {}",
+                path.display()
+            ),
+        )
+    })?;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".penumbra-").suffix(".partial");
+    // Ordinary file permissions rather than the temporary file's owner-only ones.
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
+    let mut tmp = builder.tempfile_in(dir)?;
+    match format {
+        ImageFormat::Png => write_png(&mut io::BufWriter::new(tmp.as_file_mut()), image, exposure)?,
+        ImageFormat::Exr => write_exr(tmp.as_file_mut(), image)?,
+        ImageFormat::Pfm => write_pfm(&mut io::BufWriter::new(tmp.as_file_mut()), image)?,
+    }
+    tmp.as_file().sync_all()?;
+    tmp.persist(path).map_err(|e| e.error)?;
+    Ok(())
+}
+
+fn write_png(w: &mut impl Write, image: &Image, exposure: f32) -> io::Result<()> {
+    let scale = exposure.exp2();
+    let mut encoder = png::Encoder::new(w, image.width, image.height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+    let mut writer = encoder.write_header().map_err(io::Error::other)?;
+    let bytes: Vec<u8> = image
+        .pixels
+        .iter()
+        .flat_map(|c| c.to_array())
+        .map(|v| {
+            let v = if v.is_finite() {
+                (v * scale).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (srgb_encode(v) * 255.0 + 0.5) as u8
+        })
+        .collect();
+    writer.write_image_data(&bytes).map_err(io::Error::other)?;
+    writer.finish().map_err(io::Error::other)
+}
+
+fn write_exr(file: &mut std::fs::File, image: &Image) -> io::Result<()> {
+    use exr::prelude::*;
+    let (w, h) = (image.width as usize, image.height as usize);
+    let channels = SpecificChannels::rgb(|p: Vec2<usize>| {
+        let c = image.pixels[p.y() * w + p.x()];
+        (c.r, c.g, c.b)
+    });
+    let img = exr::image::Image::from_channels((w, h), channels);
+    img.write()
+        .to_buffered(io::BufWriter::new(file))
+        .map_err(io::Error::other)
+}
+
+/// The Portable Float Map: a text header, then little-endian floats, rows from the bottom.
+fn write_pfm(w: &mut impl Write, image: &Image) -> io::Result<()> {
+    write!(w, "PF\n{} {}\n-1.0\n", image.width, image.height)?;
+    for row in image.pixels.chunks(image.width as usize).rev() {
+        for c in row {
+            for v in c.to_array() {
+                w.write_all(&v.to_le_bytes())?;
+            }
+        }
+    }
+    w.flush()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> Vec<Rgb> {
+        (0..6).map(|i| Rgb::new(i as f32 * 0.2, 0.5, 2.0)).collect()
+    }
+
+    #[test]
+    fn pfm_layout() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("a.pfm");
+        let px = sample();
+        write_image(
+            &p,
+            &Image {
+                width: 3,
+                height: 2,
+                pixels: &px,
+            },
+            0.0,
+        )
+        .unwrap();
+        let bytes = std::fs::read(&p).unwrap();
+        let header = b"PF\n3 2\n-1.0\n";
+        assert_eq!(&bytes[..header.len()], header);
+        assert_eq!(bytes.len(), header.len() + 6 * 12);
+        // First stored row is the bottom row: pixel 3.
+        let first = f32::from_le_bytes(bytes[header.len()..header.len() + 4].try_into().unwrap());
+        assert_eq!(first, px[3].r);
+    }
+
+    #[test]
+    fn exr_round_trip_and_png_writes() {
+        let dir = tempfile::tempdir().unwrap();
+        let px = sample();
+        let img = Image {
+            width: 3,
+            height: 2,
+            pixels: &px,
+        };
+        let p = dir.path().join("a.exr");
+        write_image(&p, &img, 0.0).unwrap();
+        let read = exr::prelude::read_first_rgba_layer_from_file(
+            &p,
+            |res, _| vec![[0f32; 3]; res.width() * res.height()],
+            |buf, pos, (r, g, b, _a): (f32, f32, f32, f32)| buf[pos.y() * 3 + pos.x()] = [r, g, b],
+        )
+        .unwrap();
+        let got = &read.layer_data.channel_data.pixels;
+        assert_eq!(got[4], px[4].to_array());
+        let png_path = dir.path().join("a.png");
+        write_image(&png_path, &img, 1.0).unwrap();
+        assert!(std::fs::metadata(&png_path).unwrap().len() > 0);
+        // No temporary files left behind.
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names.len(), 2, "{names:?}");
+        assert!(write_image(&dir.path().join("a.bmp"), &img, 0.0).is_err());
+    }
+
+    #[test]
+    fn srgb_curve() {
+        assert_eq!(srgb_encode(0.0), 0.0);
+        assert!((srgb_encode(1.0) - 1.0).abs() < 1e-6);
+        assert!((srgb_encode(0.18) - 0.4613).abs() < 1e-3);
+    }
+}

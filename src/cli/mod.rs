@@ -1,0 +1,115 @@
+//! Command-line arguments and dispatch.
+
+mod progress;
+mod render;
+
+use clap::{Args, Parser, Subcommand};
+use std::path::PathBuf;
+
+/// Penumbra: a physically based CPU renderer.
+///
+/// Without a subcommand, works as `penumbra render`: with no arguments at all it renders
+/// the built-in default scene (the classic Whitted scene) to render.png in the current
+/// directory.
+#[derive(Parser, Debug)]
+#[command(
+    name = "penumbra",
+    version,
+    about,
+    long_about,
+    args_conflicts_with_subcommands = true
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    #[command(flatten)]
+    render: RenderArgs,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Render a scene file to an image.
+    Render(RenderArgs),
+}
+
+/// Options of `penumbra render`; each overrides what the scene file says.
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Scene file (.toml, the native format); the built-in default scene when omitted.
+    pub scene: Option<PathBuf>,
+    /// Output image; the format follows the extension: .png (8-bit sRGB), .exr (linear
+    /// 32-bit float), .pfm (linear 32-bit float).
+    #[arg(short, long, default_value = "render.png")]
+    pub output: PathBuf,
+    /// Samples per pixel.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub spp: Option<u32>,
+    /// Worker threads (default: one per core).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// Random seed; the same seed, scene and sample count give the same image.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Integrator: whitted.
+    #[arg(long)]
+    pub integrator: Option<String>,
+    /// Maximum number of reflection/refraction bounces after the camera ray (default 5).
+    #[arg(long)]
+    pub max_depth: Option<u32>,
+    /// Stop tracing rays whose accumulated weight falls below this (default 1e-3).
+    #[arg(long, value_parser = parse_non_negative)]
+    pub min_weight: Option<f32>,
+    /// Image resolution, WIDTHxHEIGHT (e.g. 1280x720).
+    #[arg(long, value_parser = parse_resolution, value_name = "WxH")]
+    pub res: Option<(u32, u32)>,
+    /// Acceleration structure: list, bvh.
+    #[arg(long)]
+    pub accel: Option<String>,
+    /// Sampler: independent, stratified.
+    #[arg(long)]
+    pub sampler: Option<String>,
+    /// Exposure in stops applied to PNG output (the image is multiplied by 2^EV).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
+    /// No progress bar and no summary line.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("`{s}` is not WIDTHxHEIGHT, e.g. 640x480"))?;
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("`{v}` is not a whole number"))
+    };
+    let (w, h) = (parse(w)?, parse(h)?);
+    if w == 0 || h == 0 || w > 65536 || h > 65536 {
+        return Err(format!("{w}x{h}: width and height must be between 1 and 65536"));
+    }
+    Ok((w, h))
+}
+
+fn parse_non_negative(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if x >= 0.0 && x.is_finite() => Ok(x),
+        _ => Err(format!("`{s}` is not a non-negative number")),
+    }
+}
+
+/// Why a command failed.
+pub enum Failure {
+    /// The user's input is wrong: exit code 2.
+    BadInput(miette::Report),
+    /// Something went wrong on our side or the system's: exit code 1.
+    Internal(String),
+}
+
+pub fn run(cli: Cli) -> Result<(), Failure> {
+    match cli.command {
+        Some(Command::Render(args)) => render::run(args),
+        None => render::run(cli.render),
+    }
+}
