@@ -58,6 +58,43 @@ impl std::fmt::Display for MeshError {
 
 impl std::error::Error for MeshError {}
 
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn smooth_normals_of_a_tent() {
+        // Two triangles meeting at a ridge along x: the ridge normal is straight up.
+        let mut m = TriangleMesh {
+            positions: vec![
+                Vec3::ZERO,
+                Vec3::X,
+                Vec3::new(0.0, -1.0, 1.0),
+                Vec3::new(0.0, -1.0, -1.0),
+            ],
+            indices: vec![[0, 2, 1], [0, 1, 3]],
+            ..Default::default()
+        };
+        m.compute_smooth_normals();
+        let n = m.normals.as_ref().unwrap();
+        assert!((n[0] - Vec3::Y).length() < 1e-6, "{}", n[0]);
+        assert!(m.validate().is_ok());
+    }
+
+    #[test]
+    fn validation_finds_bad_indices_and_counts() {
+        let mut m = TriangleMesh {
+            positions: vec![Vec3::ZERO; 3],
+            indices: vec![[0, 1, 3]],
+            ..Default::default()
+        };
+        assert!(matches!(m.validate(), Err(MeshError::IndexOutOfRange { index: 3, .. })));
+        m.indices = vec![[0, 1, 2]];
+        m.uvs = Some(vec![glam::Vec2::ZERO; 2]);
+        assert!(matches!(m.validate(), Err(MeshError::AttributeCount { found: 2, .. })));
+    }
+}
+
 impl TriangleMesh {
     /// Checks indices and attribute counts.
     pub fn validate(&self) -> Result<(), MeshError> {
@@ -105,6 +142,22 @@ impl TriangleMesh {
                 self.indices.clone()
             },
         }
+    }
+
+    /// Gives a mesh without normals smooth per-vertex normals: the area-weighted mean of the
+    /// normals of the triangles around each vertex.
+    pub fn compute_smooth_normals(&mut self) {
+        if self.normals.is_some() {
+            return;
+        }
+        let mut normals = vec![Vec3::ZERO; self.positions.len()];
+        for (tri, idx) in self.indices.iter().enumerate() {
+            let [p0, p1, p2] = self.vertices(tri);
+            // The cross product's length is twice the area: area weighting for free.
+            let n = (p1 - p0).cross(p2 - p0);
+            idx.iter().for_each(|&i| normals[i as usize] += n);
+        }
+        self.normals = Some(normals.into_iter().map(Vec3::normalize_or_zero).collect());
     }
 
     pub fn vertices(&self, tri: usize) -> [Vec3; 3] {

@@ -165,6 +165,13 @@ impl<'a> Value<'a> {
         }
     }
 
+    pub fn bool(&self) -> Result<bool> {
+        self.value
+            .get_ref()
+            .as_bool()
+            .ok_or_else(|| self.type_error("true or false"))
+    }
+
     pub fn str(&self) -> Result<&'a str> {
         self.value.get_ref().as_str().ok_or_else(|| self.type_error("a string"))
     }

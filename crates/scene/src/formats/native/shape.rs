@@ -130,8 +130,20 @@ fn nonzero(t: &Table, key: &str, default: Vec3) -> Result<Vec3> {
 }
 
 /// A mesh from `file = "..."` (OBJ or PLY) or inline `positions`, `indices` and optional
-/// `normals` and `uvs`.
+/// `normals` and `uvs`; `smooth = true` gives a mesh without normals smooth ones.
 fn mesh_source(file: &Arc<SourceFile>, t: &Table) -> Result<TriangleMesh> {
+    let smooth = match t.get("smooth") {
+        Some(v) => v.bool()?,
+        None => false,
+    };
+    let mut mesh = mesh_data(file, t)?;
+    if smooth {
+        mesh.compute_smooth_normals();
+    }
+    Ok(mesh)
+}
+
+fn mesh_data(file: &Arc<SourceFile>, t: &Table) -> Result<TriangleMesh> {
     if let Some(v) = t.get("file") {
         let rel = v.str()?;
         let base = file.path.parent().unwrap_or(std::path::Path::new("."));
