@@ -8,7 +8,7 @@
 pub mod accel;
 mod geometry;
 mod hit;
-mod instance;
+pub mod instance;
 mod mesh;
 mod placement;
 pub mod shapes;

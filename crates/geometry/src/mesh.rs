@@ -58,43 +58,6 @@ impl std::fmt::Display for MeshError {
 
 impl std::error::Error for MeshError {}
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn smooth_normals_of_a_tent() {
-        // Two triangles meeting at a ridge along x: the ridge normal is straight up.
-        let mut m = TriangleMesh {
-            positions: vec![
-                Vec3::ZERO,
-                Vec3::X,
-                Vec3::new(0.0, -1.0, 1.0),
-                Vec3::new(0.0, -1.0, -1.0),
-            ],
-            indices: vec![[0, 2, 1], [0, 1, 3]],
-            ..Default::default()
-        };
-        m.compute_smooth_normals();
-        let n = m.normals.as_ref().unwrap();
-        assert!((n[0] - Vec3::Y).length() < 1e-6, "{}", n[0]);
-        assert!(m.validate().is_ok());
-    }
-
-    #[test]
-    fn validation_finds_bad_indices_and_counts() {
-        let mut m = TriangleMesh {
-            positions: vec![Vec3::ZERO; 3],
-            indices: vec![[0, 1, 3]],
-            ..Default::default()
-        };
-        assert!(matches!(m.validate(), Err(MeshError::IndexOutOfRange { index: 3, .. })));
-        m.indices = vec![[0, 1, 2]];
-        m.uvs = Some(vec![glam::Vec2::ZERO; 2]);
-        assert!(matches!(m.validate(), Err(MeshError::AttributeCount { found: 2, .. })));
-    }
-}
-
 impl TriangleMesh {
     /// Checks indices and attribute counts.
     pub fn validate(&self) -> Result<(), MeshError> {
@@ -170,5 +133,42 @@ impl TriangleMesh {
 
     pub fn bounds(&self) -> Aabb {
         Aabb::from_points(self.positions.iter().copied())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn smooth_normals_of_a_tent() {
+        // Two triangles meeting at a ridge along x: the ridge normal is straight up.
+        let mut m = TriangleMesh {
+            positions: vec![
+                Vec3::ZERO,
+                Vec3::X,
+                Vec3::new(0.0, -1.0, 1.0),
+                Vec3::new(0.0, -1.0, -1.0),
+            ],
+            indices: vec![[0, 2, 1], [0, 1, 3]],
+            ..Default::default()
+        };
+        m.compute_smooth_normals();
+        let n = m.normals.as_ref().unwrap();
+        assert!((n[0] - Vec3::Y).length() < 1e-6, "{}", n[0]);
+        assert!(m.validate().is_ok());
+    }
+
+    #[test]
+    fn validation_finds_bad_indices_and_counts() {
+        let mut m = TriangleMesh {
+            positions: vec![Vec3::ZERO; 3],
+            indices: vec![[0, 1, 3]],
+            ..Default::default()
+        };
+        assert!(matches!(m.validate(), Err(MeshError::IndexOutOfRange { index: 3, .. })));
+        m.indices = vec![[0, 1, 2]];
+        m.uvs = Some(vec![glam::Vec2::ZERO; 2]);
+        assert!(matches!(m.validate(), Err(MeshError::AttributeCount { found: 2, .. })));
     }
 }

@@ -83,7 +83,7 @@ fn random_ray(rng: &mut Pcg32) -> Ray {
         0 => {
             let axis = (rng.next_u32() % 3) as usize;
             dir = Vec3::ZERO;
-            dir[axis] = if rng.next_u32() % 2 == 0 { 1.0 } else { -1.0 };
+            dir[axis] = if rng.next_u32().is_multiple_of(2) { 1.0 } else { -1.0 };
         }
         // Aimed at the scene from outside, or starting inside it.
         1 => dir = point(rng, 4.0) - origin,
@@ -101,7 +101,7 @@ fn check_agreement(seed: u64, n: usize, coincident: bool, with_plane: bool) -> R
         let accel = geometry.accel(kind);
         for _ in 0..300 {
             let ray = random_ray(&mut rng);
-            let t_max = if rng.next_u32() % 4 == 0 {
+            let t_max = if rng.next_u32().is_multiple_of(4) {
                 rng.next_f32() * 20.0
             } else {
                 f32::INFINITY
