@@ -229,3 +229,6 @@ fn read_light(t: &Table) -> Result<LightDesc> {
         },
     })
 }
+
+#[cfg(test)]
+mod tests;

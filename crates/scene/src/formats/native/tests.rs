@@ -1,0 +1,153 @@
+//! The native reader against hand-checked descriptions.
+
+use super::read;
+use crate::desc::{CameraKind, LightDesc, ShapeKind};
+use crate::SourceFile;
+use glam::Vec3;
+use penumbra_core::Rgb;
+use penumbra_render::{Filter, Material, Texture};
+
+fn parse(text: &str) -> crate::SceneDesc {
+    read(&SourceFile::new("test.toml", text.to_string())).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn every_shape_light_and_setting() {
+    let d = parse(
+        r#"
+        [render]
+        width = 320
+        height = 200
+        spp = 9
+        seed = 12
+        max_depth = 7
+        min_weight = 0.01
+        sampler = "independent"
+        accel = "list"
+        filter = { type = "tent", radius = 2 }
+
+        [camera]
+        type = "orthographic"
+        position = [1, 2, 3]
+        height = 4
+
+        [world]
+        background = 0.5
+        ambient = [0.1, 0.2, 0.3]
+
+        [[material]]
+        name = "a"
+        diffuse = { type = "checker", even = 1, odd = [0, 0, 1], size = 2 }
+        mirror = 0.5
+
+        [[mesh]]
+        name = "tri"
+        positions = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+        indices = [[0, 1, 2]]
+
+        [[shape]]
+        type = "sphere"
+        radius = 2
+        material = "a"
+        [[shape]]
+        type = "plane"
+        [[shape]]
+        type = "quad"
+        [[shape]]
+        type = "disk"
+        normal = [0, 0, 1]
+        [[shape]]
+        type = "box"
+        min = [0, 0, 0]
+        max = [1, 2, 3]
+        [[shape]]
+        type = "mesh"
+        positions = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+        indices = [[0, 1, 2]]
+        smooth = true
+        [[shape]]
+        type = "instance"
+        mesh = "tri"
+
+        [[light]]
+        type = "point"
+        position = [0, 5, 0]
+        [[light]]
+        type = "spot"
+        position = [0, 5, 0]
+        cone_angle = 20
+        [[light]]
+        type = "directional"
+        direction = [0, -2, 0]
+        irradiance = 3
+        "#,
+    );
+    let r = &d.render;
+    assert_eq!((r.width, r.height, r.spp, r.seed, r.max_depth), (320, 200, 9, 12, 7));
+    assert_eq!(r.filter, Filter::Tent { radius: 2.0 });
+    assert_eq!(d.camera.kind, CameraKind::Orthographic { height: 4.0 });
+    assert_eq!(d.camera.position, Vec3::new(1.0, 2.0, 3.0));
+    assert_eq!(d.background, Rgb::splat(0.5));
+    let Material::Phong(m) = &d.materials[0].material;
+    assert_eq!(
+        m.diffuse,
+        Texture::Checker {
+            even: Rgb::WHITE,
+            odd: Rgb::new(0.0, 0.0, 1.0),
+            size: 2.0
+        }
+    );
+    assert_eq!(m.mirror, Rgb::splat(0.5));
+    assert_eq!(d.shapes.len(), 7);
+    assert!(matches!(d.shapes[0].kind, ShapeKind::Sphere { radius: 2.0, .. }));
+    assert_eq!(d.shapes[0].material, Some(0));
+    assert_eq!(d.shapes[1].material, None);
+    match &d.shapes[5].kind {
+        ShapeKind::Mesh(m) => assert!(m.normals.is_some(), "smooth = true computes normals"),
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(d.shapes[6].kind, ShapeKind::Instance { mesh: 0 }));
+    assert_eq!(
+        d.lights[1],
+        LightDesc::Spot {
+            position: Vec3::new(0.0, 5.0, 0.0),
+            target: Vec3::new(0.0, 4.0, 0.0),
+            intensity: Rgb::WHITE,
+            cone_angle: 20.0,
+            falloff_start: 20.0,
+        }
+    );
+    assert_eq!(
+        d.lights[2],
+        LightDesc::Directional {
+            direction: Vec3::new(0.0, -2.0, 0.0),
+            irradiance: Rgb::splat(3.0)
+        }
+    );
+}
+
+#[test]
+fn transform_steps_apply_in_order() {
+    let d = parse(
+        r#"
+        [[shape]]
+        type = "sphere"
+        transform = [{ scale = 2 }, { rotate = 90, axis = [0, 0, 1] }, { translate = [1, 0, 0] }]
+        [[shape]]
+        type = "sphere"
+        transform = { matrix = [1, 0, 0, 5,  0, 1, 0, 6,  0, 0, 1, 7,  0, 0, 0, 1] }
+        "#,
+    );
+    // (1, 0, 0) -> scaled (2, 0, 0) -> rotated (0, 2, 0) -> translated (1, 2, 0).
+    let p = d.shapes[0].transform.point(Vec3::X);
+    assert!((p - Vec3::new(1.0, 2.0, 0.0)).length() < 1e-5, "{p}");
+    // Matrices are written row by row: the last column is the translation.
+    assert_eq!(d.shapes[1].transform.point(Vec3::ZERO), Vec3::new(5.0, 6.0, 7.0));
+}
+
+#[test]
+fn defaults_when_tables_are_absent() {
+    let d = parse("");
+    assert_eq!(d.render, crate::desc::RenderDesc::default());
+    assert!(d.shapes.is_empty() && d.lights.is_empty());
+}
