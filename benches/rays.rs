@@ -67,7 +67,8 @@ fn uv_sphere(rings: u32, segments: u32) -> TriangleMesh {
         let theta = std::f32::consts::PI * i as f32 / rings as f32;
         for j in 0..segments {
             let phi = 2.0 * std::f32::consts::PI * j as f32 / segments as f32;
-            m.positions.push(Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin()));
+            m.positions
+                .push(Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin()));
         }
     }
     for i in 0..rings {
@@ -88,11 +89,23 @@ fn primitives(c: &mut Criterion) {
     g.throughput(Throughput::Elements(RAYS as u64));
     let sphere = Sphere::new(Vec3::ZERO, 0.8, &Transform::IDENTITY);
     g.bench_function("ray-sphere", |b| {
-        b.iter(|| rays.iter().filter(|r| sphere.intersect(black_box(r), f32::INFINITY).is_some()).count())
+        b.iter(|| {
+            rays.iter()
+                .filter(|r| sphere.intersect(black_box(r), f32::INFINITY).is_some())
+                .count()
+        })
     });
-    let tri = [Vec3::new(-0.8, -0.8, 0.0), Vec3::new(0.8, -0.8, 0.1), Vec3::new(0.0, 0.8, -0.1)];
+    let tri = [
+        Vec3::new(-0.8, -0.8, 0.0),
+        Vec3::new(0.8, -0.8, 0.1),
+        Vec3::new(0.0, 0.8, -0.1),
+    ];
     g.bench_function("ray-triangle", |b| {
-        b.iter(|| rays.iter().filter(|r| intersect_triangle(black_box(r), tri, f32::INFINITY).is_some()).count())
+        b.iter(|| {
+            rays.iter()
+                .filter(|r| intersect_triangle(black_box(r), tri, f32::INFINITY).is_some())
+                .count()
+        })
     });
     g.finish();
 }
@@ -102,17 +115,30 @@ fn bvh(c: &mut Criterion) {
     let mesh = Arc::new(mesh);
     let mut g = c.benchmark_group("bvh");
     g.sample_size(10);
-    g.bench_function(BenchmarkId::new("build", name), |b| b.iter(|| Bvh::new(Arc::new(MeshTriangles(mesh.clone())))));
+    g.bench_function(BenchmarkId::new("build", name), |b| {
+        b.iter(|| Bvh::new(Arc::new(MeshTriangles(mesh.clone()))))
+    });
     let bvh = Bvh::new(Arc::new(MeshTriangles(mesh.clone())));
     let bounds = bvh.bounds();
     g.throughput(Throughput::Elements(RAYS as u64));
     g.sample_size(30);
-    for (kind, rays) in [("coherent", coherent_rays(bounds)), ("incoherent", incoherent_rays(bounds, 2))] {
+    for (kind, rays) in [
+        ("coherent", coherent_rays(bounds)),
+        ("incoherent", incoherent_rays(bounds, 2)),
+    ] {
         g.bench_function(BenchmarkId::new(format!("intersect-{kind}"), name), |b| {
-            b.iter(|| rays.iter().filter(|r| bvh.intersect(black_box(r), f32::INFINITY).is_some()).count())
+            b.iter(|| {
+                rays.iter()
+                    .filter(|r| bvh.intersect(black_box(r), f32::INFINITY).is_some())
+                    .count()
+            })
         });
         g.bench_function(BenchmarkId::new(format!("occluded-{kind}"), name), |b| {
-            b.iter(|| rays.iter().filter(|r| bvh.occluded(black_box(r), f32::INFINITY)).count())
+            b.iter(|| {
+                rays.iter()
+                    .filter(|r| bvh.occluded(black_box(r), f32::INFINITY))
+                    .count()
+            })
         });
     }
     g.finish();

@@ -44,6 +44,16 @@ fn add(d: &mut SceneDesc, kind: ShapeKind, material: Phong) {
     });
 }
 
+/// Clear glass of index 1.5.
+fn glass() -> Phong {
+    Phong {
+        diffuse: Texture::Constant(Rgb::BLACK),
+        transmission: Rgb::WHITE,
+        ior: 1.5,
+        ..Phong::default()
+    }
+}
+
 fn diffuse(albedo: f32) -> Phong {
     Phong {
         diffuse: Texture::Constant(Rgb::splat(albedo)),
@@ -147,19 +157,13 @@ fn glass_slab_at_normal_incidence_transmits_one_minus_f_over_one_plus_f() {
     d.render.max_depth = 40;
     d.render.min_weight = 0.0;
     d.ambient = Rgb::splat(1.0);
-    let glass = Phong {
-        diffuse: Texture::Constant(Rgb::BLACK),
-        transmission: Rgb::WHITE,
-        ior: 1.5,
-        ..Phong::default()
-    };
     add(
         &mut d,
         ShapeKind::Box {
             min: Vec3::new(-5.0, 1.0, -5.0),
             max: Vec3::new(5.0, 1.5, 5.0),
         },
-        glass,
+        glass(),
     );
     add(
         &mut d,
@@ -189,19 +193,13 @@ fn glass_in_a_uniform_background_conserves_energy() {
     d.render.max_depth = 60;
     d.render.min_weight = 0.0;
     d.background = Rgb::new(0.25, 0.5, 1.0);
-    let glass = Phong {
-        diffuse: Texture::Constant(Rgb::BLACK),
-        transmission: Rgb::WHITE,
-        ior: 1.5,
-        ..Phong::default()
-    };
     add(
         &mut d,
         ShapeKind::Sphere {
             center: Vec3::new(-1.0, 0.0, 0.0),
             radius: 1.0,
         },
-        glass.clone(),
+        glass(),
     );
     add(
         &mut d,
@@ -209,7 +207,7 @@ fn glass_in_a_uniform_background_conserves_energy() {
             min: Vec3::splat(-0.6),
             max: Vec3::splat(0.6),
         },
-        glass,
+        glass(),
     );
     d.shapes[1].transform = Transform::rotate(Vec3::new(1.0, 1.0, 0.0), 30.0)
         .unwrap()

@@ -2,7 +2,7 @@
 //! placement a disk becomes an ellipse of the same form, so placement is baked in.
 //! Texture coordinates map the unit disk to [0, 1]^2.
 
-use super::{plane_coordinates, plane_hit, ShapeHit, ShapeSurface};
+use super::{plane_coordinates, plane_frame, plane_hit, ShapeHit, ShapeSurface};
 use glam::{Vec2, Vec3};
 use penumbra_core::{Aabb, Frame, Ray, Transform};
 
@@ -23,14 +23,13 @@ impl Disk {
         let center = to_world.point(center);
         let axis1 = to_world.vector(frame.s * radius);
         let axis2 = to_world.vector(frame.t * radius);
-        let cross = axis1.cross(axis2);
-        let n = cross.try_normalize()?;
+        let (n, w) = plane_frame(axis1, axis2)?;
         Some(Disk {
             center,
             axis1,
             axis2,
             n,
-            w: cross / cross.length_squared(),
+            w,
         })
     }
 

@@ -1,7 +1,7 @@
 //! The quad: a parallelogram `corner + a * edge1 + b * edge2`, a, b in [0, 1]. Affine
 //! transforms map parallelograms to parallelograms, so placement is baked in.
 
-use super::{plane_coordinates, plane_hit, ShapeHit, ShapeSurface};
+use super::{plane_coordinates, plane_frame, plane_hit, ShapeHit, ShapeSurface};
 use glam::Vec3;
 use penumbra_core::{Aabb, Ray, Transform};
 
@@ -18,14 +18,13 @@ impl Quad {
     /// `None` if the edges are parallel or zero. The front (normal) is `edge1 x edge2`.
     pub fn new(corner: Vec3, edge1: Vec3, edge2: Vec3, to_world: &Transform) -> Option<Self> {
         let (corner, edge1, edge2) = (to_world.point(corner), to_world.vector(edge1), to_world.vector(edge2));
-        let cross = edge1.cross(edge2);
-        let n = cross.try_normalize()?;
+        let (n, w) = plane_frame(edge1, edge2)?;
         Some(Quad {
             corner,
             edge1,
             edge2,
             n,
-            w: cross / cross.length_squared(),
+            w,
         })
     }
 

@@ -79,6 +79,24 @@ mod tests {
     use super::*;
     use penumbra_core::Pcg32;
 
+    /// How many of the two triangles splitting the unit square along its diagonal `ray` hits.
+    fn square_hits(ray: &Ray) -> usize {
+        let a = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+        ];
+        let b = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ];
+        [a, b]
+            .iter()
+            .filter(|&&tri| intersect_triangle(ray, tri, f32::INFINITY).is_some())
+            .count()
+    }
+
     const TRI: [Vec3; 3] = [
         Vec3::new(0.0, 0.0, 0.0),
         Vec3::new(1.0, 0.0, 0.0),
@@ -103,27 +121,12 @@ mod tests {
 
     #[test]
     fn axis_aligned_ray_exactly_on_the_edge_hits_one() {
-        let a = [
-            Vec3::new(0.0, 0.0, 0.0),
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-        ];
-        let b = [
-            Vec3::new(0.0, 0.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(0.0, 1.0, 0.0),
-        ];
         for (origin, dir) in [
             (Vec3::new(0.5, 0.5, 1.0), Vec3::NEG_Z),
             (Vec3::new(0.5, 0.5, -1.0), Vec3::Z),
             (Vec3::new(0.25, 0.25, 2.0), Vec3::new(0.25, 0.25, -2.0)),
         ] {
-            let ray = Ray::new(origin, dir);
-            let hits = [a, b]
-                .iter()
-                .filter(|&&tri| intersect_triangle(&ray, tri, f32::INFINITY).is_some())
-                .count();
-            assert_eq!(hits, 1, "{origin} {dir}");
+            assert_eq!(square_hits(&Ray::new(origin, dir)), 1, "{origin} {dir}");
         }
     }
 
@@ -142,16 +145,6 @@ mod tests {
     fn shared_edge_is_watertight() {
         // Two triangles sharing the diagonal of the unit square, hit by rays aimed at points of
         // the diagonal from random origins: each ray hits exactly one triangle.
-        let a = [
-            Vec3::new(0.0, 0.0, 0.0),
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-        ];
-        let b = [
-            Vec3::new(0.0, 0.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(0.0, 1.0, 0.0),
-        ];
         let mut rng = Pcg32::new(1, 2);
         for _ in 0..20_000 {
             let s = rng.next_f32();
@@ -162,10 +155,7 @@ mod tests {
                 0.5 + rng.next_f32() * 3.0,
             );
             let ray = Ray::new(origin, target - origin);
-            let hits = [a, b]
-                .iter()
-                .filter(|&&tri| intersect_triangle(&ray, tri, f32::INFINITY).is_some())
-                .count();
+            let hits = square_hits(&ray);
             assert_eq!(hits, 1, "ray through the shared edge at {target}");
         }
     }
