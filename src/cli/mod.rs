@@ -86,8 +86,9 @@ fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
             .map_err(|_| format!("`{v}` is not a whole number"))
     };
     let (w, h) = (parse(w)?, parse(h)?);
-    if w == 0 || h == 0 || w > 65536 || h > 65536 {
-        return Err(format!("{w}x{h}: width and height must be between 1 and 65536"));
+    let max = penumbra::scene::formats::native::MAX_RESOLUTION;
+    if w == 0 || h == 0 || w as i64 > max || h as i64 > max {
+        return Err(format!("{w}x{h}: width and height must be between 1 and {max}"));
     }
     Ok((w, h))
 }

@@ -155,14 +155,26 @@ impl<'a> Value<'a> {
         }
     }
 
+    /// A whole number in `range`.
+    pub fn integer(&self, range: std::ops::RangeInclusive<i64>) -> Result<i64> {
+        let DeValue::Integer(i) = self.value.get_ref() else {
+            return Err(self.type_error("a whole number"));
+        };
+        i64::from_str_radix(&i.as_str().replace('_', ""), i.radix())
+            .ok()
+            .filter(|n| range.contains(n))
+            .ok_or_else(|| {
+                self.error(format!(
+                    "expected a whole number from {} to {}",
+                    range.start(),
+                    range.end()
+                ))
+                .label("out of range")
+            })
+    }
+
     pub fn u32(&self) -> Result<u32> {
-        match self.value.get_ref() {
-            DeValue::Integer(i) => i64::from_str_radix(&i.as_str().replace('_', ""), i.radix())
-                .ok()
-                .and_then(|i| u32::try_from(i).ok())
-                .ok_or_else(|| self.error("expected a non-negative whole number").label("out of range")),
-            _ => Err(self.type_error("a whole number")),
-        }
+        self.integer(0..=u32::MAX as i64).map(|n| n as u32)
     }
 
     pub fn bool(&self) -> Result<bool> {

@@ -61,9 +61,10 @@ impl Sphere {
         let r = self.placement.ray_to_object(ray);
         // Re-project onto the sphere to remove the error of `origin + t * dir`.
         let local = r.at(t).normalize();
-        let phi = local.y.atan2(local.x);
+        // Texture coordinates: longitude about the object's y axis, latitude from +y.
+        let phi = local.z.atan2(local.x);
         let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
-        let theta = local.z.clamp(-1.0, 1.0).acos();
+        let theta = local.y.clamp(-1.0, 1.0).acos();
         ShapeSurface {
             p: self.placement.point_to_world(local),
             n: self.placement.normal_to_world(local),

@@ -1,8 +1,8 @@
 //! A directional (distant) light: parallel light travelling along `direction`, with
 //! irradiance `irradiance` on a surface facing it.
 //!
-//! Native format: `type = "directional"`, `direction` (required, the way the light
-//! travels), `irradiance` (colour, default `[1, 1, 1]`).
+//! Native format: `type = "directional"`, `direction` (the way the light travels,
+//! default `[0, -1, 0]`), `irradiance` (colour, default `[1, 1, 1]`).
 
 use super::LightSample;
 use glam::Vec3;

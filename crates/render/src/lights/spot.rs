@@ -3,7 +3,8 @@
 //!
 //! Native format: `type = "spot"`, `position` (required), `target` (default
 //! `position + [0, -1, 0]`), `intensity` (colour, default `[1, 1, 1]`), `cone_angle`
-//! (degrees, half-angle of the lit cone, default 30), `falloff_start` (degrees, default 25).
+//! (degrees, half-angle of the lit cone, default 30), `falloff_start` (degrees, from 0 to
+//! `cone_angle`, default the smaller of 25 and `cone_angle`).
 
 use super::{delta_sample, LightSample};
 use glam::Vec3;

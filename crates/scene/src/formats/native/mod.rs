@@ -62,16 +62,13 @@ pub(crate) fn choice<T>(v: &Value, what: &str, names: &[&str], parse: impl Fn(&s
     })
 }
 
+/// The largest image side, here and on the command line.
+pub const MAX_RESOLUTION: i64 = 65536;
+
 fn read_render(t: &Table) -> Result<RenderDesc> {
     let d = RenderDesc::default();
-    let positive_u32 = |key: &str, default: u32| -> Result<u32> {
-        match t.get(key) {
-            None => Ok(default),
-            Some(v) => match v.u32()? {
-                0 => Err(v.error(format!("`{key}` must be at least 1")).label("must be >= 1")),
-                n => Ok(n),
-            },
-        }
+    let int = |key: &str, range: std::ops::RangeInclusive<i64>, default: u64| -> Result<u64> {
+        t.get(key).map_or(Ok(default), |v| v.integer(range).map(|n| n as u64))
     };
     let integrator = match t.get("integrator") {
         Some(v) => choice(&v, "integrator", &IntegratorKind::NAMES, IntegratorKind::from_name)?,
@@ -90,10 +87,10 @@ fn read_render(t: &Table) -> Result<RenderDesc> {
         return Err(t.require("min_weight")?.error("`min_weight` must not be negative"));
     }
     Ok(RenderDesc {
-        width: positive_u32("width", d.width)?,
-        height: positive_u32("height", d.height)?,
-        spp: positive_u32("spp", d.spp)?,
-        seed: t.u32_or("seed", d.seed as u32)? as u64,
+        width: int("width", 1..=MAX_RESOLUTION, d.width as u64)? as u32,
+        height: int("height", 1..=MAX_RESOLUTION, d.height as u64)? as u32,
+        spp: int("spp", 1..=u32::MAX as i64, d.spp as u64)? as u32,
+        seed: int("seed", 0..=i64::MAX, d.seed)?,
         integrator,
         max_depth: t.u32_or("max_depth", d.max_depth)?,
         min_weight,
@@ -203,12 +200,13 @@ fn read_light(t: &Table) -> Result<LightDesc> {
         },
         "spot" => {
             let position = t.require("position")?.vec3()?;
-            let target = t.vec3_or("target", position - Vec3::Y)?;
-            if target == position {
-                return Err(t
-                    .require("target")?
-                    .error("a spot light's `target` must differ from its `position`"));
-            }
+            let target = match t.get("target") {
+                None => position - Vec3::Y,
+                Some(v) if v.vec3()? == position => {
+                    return Err(v.error("a spot light's `target` must differ from its `position`"));
+                }
+                Some(v) => v.vec3()?,
+            };
             let cone_angle = t.positive_or("cone_angle", 30.0)?;
             if cone_angle > 180.0 {
                 return Err(t
@@ -220,7 +218,19 @@ fn read_light(t: &Table) -> Result<LightDesc> {
                 target,
                 intensity: t.rgb_or("intensity", Rgb::WHITE)?,
                 cone_angle,
-                falloff_start: t.f32_or("falloff_start", cone_angle.min(25.0))?.clamp(0.0, cone_angle),
+                falloff_start: match t.get("falloff_start") {
+                    None => cone_angle.min(25.0),
+                    Some(v) => match v.f32()? {
+                        f if (0.0..=cone_angle).contains(&f) => f,
+                        f => {
+                            return Err(v
+                                .error(format!(
+                                    "`falloff_start` must be from 0 to `cone_angle` ({cone_angle}), found {f}"
+                                ))
+                                .label("out of range"))
+                        }
+                    },
+                },
             }
         }
         _ => LightDesc::Directional {

@@ -1,7 +1,7 @@
 //! `[[shape]]` and `[[mesh]]` tables, and the `transform` key.
 //!
 //! Every shape takes `material` (a material's name; the default is grey diffuse) and
-//! `transform`: a list of steps applied in order, each `{ translate = [x, y, z] }`,
+//! `transform`: one step, or a list of steps applied in order, each `{ translate = [x, y, z] }`,
 //! `{ scale = s }` or `{ scale = [x, y, z] }`, `{ rotate = degrees, axis = [x, y, z] }` or
 //! `{ matrix = [16 numbers, row by row] }`.
 
@@ -54,11 +54,19 @@ pub fn read(
             point: t.vec3_or("point", Vec3::ZERO)?,
             normal: nonzero(t, "normal", Vec3::Y)?,
         },
-        "quad" => ShapeKind::Quad {
-            corner: t.vec3_or("corner", Vec3::new(-1.0, -1.0, 0.0))?,
-            edge1: nonzero(t, "edge1", Vec3::new(2.0, 0.0, 0.0))?,
-            edge2: nonzero(t, "edge2", Vec3::new(0.0, 2.0, 0.0))?,
-        },
+        "quad" => {
+            let edge1 = nonzero(t, "edge1", Vec3::new(2.0, 0.0, 0.0))?;
+            let edge2 = nonzero(t, "edge2", Vec3::new(0.0, 2.0, 0.0))?;
+            if edge1.cross(edge2).length_squared() == 0.0 {
+                let at = t.get("edge2").map_or_else(|| t.location(), |v| v.location());
+                return Err(SceneError::at(at, "a quad's edges must not be parallel").label("parallel to edge1"));
+            }
+            ShapeKind::Quad {
+                corner: t.vec3_or("corner", Vec3::new(-1.0, -1.0, 0.0))?,
+                edge1,
+                edge2,
+            }
+        }
         "disk" => ShapeKind::Disk {
             center: t.vec3_or("center", Vec3::ZERO)?,
             normal: nonzero(t, "normal", Vec3::Y)?,
@@ -169,8 +177,11 @@ fn mesh_data(file: &Arc<SourceFile>, t: &Table) -> Result<TriangleMesh> {
         .array()?
         .iter()
         .map(|tri| {
-            let n = tri.numbers(3)?;
-            Ok([n[0], n[1], n[2]].map(|x| x as u32))
+            let items = tri.array()?;
+            if items.len() != 3 {
+                return Err(tri.error(format!("a triangle has 3 vertex indices, found {}", items.len())));
+            }
+            Ok([items[0].u32()?, items[1].u32()?, items[2].u32()?])
         })
         .collect::<Result<Vec<_>>>()?;
     let normals = t.get("normals").map(|v| points(&v)).transpose()?;
