@@ -16,6 +16,8 @@
 //! .unwrap();
 //! ```
 
+pub mod bench;
+
 pub use penumbra_core as math;
 pub use penumbra_geometry as geometry;
 pub use penumbra_render as renderer;

@@ -154,9 +154,21 @@ fn bad_scenes_name_the_line_and_exit_2() {
     );
     expect_scene_error("[render]\nspp = 0\n", 2, "expected a whole number from 1 to");
     expect_scene_error("[render]\nwidth = 100000\n", 2, "from 1 to 65536");
-    expect_scene_error("[[shape]]\ntype = \"mesh\"\npositions = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]\nindices = [[0, 1, -2]]\n", 4, "expected a whole number");
-    expect_scene_error("[[shape]]\ntype = \"quad\"\nedge1 = [1, 0, 0]\nedge2 = [2, 0, 0]\n", 4, "must not be parallel");
-    expect_scene_error("[[light]]\ntype = \"spot\"\nposition = [0, 1, 0]\nfalloff_start = 40\n", 4, "`falloff_start` must be");
+    expect_scene_error(
+        "[[shape]]\ntype = \"mesh\"\npositions = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]\nindices = [[0, 1, -2]]\n",
+        4,
+        "expected a whole number",
+    );
+    expect_scene_error(
+        "[[shape]]\ntype = \"quad\"\nedge1 = [1, 0, 0]\nedge2 = [2, 0, 0]\n",
+        4,
+        "must not be parallel",
+    );
+    expect_scene_error(
+        "[[light]]\ntype = \"spot\"\nposition = [0, 1, 0]\nfalloff_start = 40\n",
+        4,
+        "`falloff_start` must be",
+    );
     expect_scene_error(
         "[[light]]\ntype = \"point\"\nposition = [1, 2]\n",
         3,

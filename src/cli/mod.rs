@@ -1,5 +1,6 @@
 //! Command-line arguments and dispatch.
 
+mod bench;
 mod progress;
 mod render;
 
@@ -30,6 +31,9 @@ pub struct Cli {
 enum Command {
     /// Render a scene file to an image.
     Render(RenderArgs),
+    /// Measure: `penumbra bench accel MESH_OR_SCENE` races the acceleration structures.
+    #[command(subcommand)]
+    Bench(bench::BenchCommand),
 }
 
 /// Options of `penumbra render`; each overrides what the scene file says.
@@ -111,6 +115,7 @@ pub enum Failure {
 pub fn run(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Some(Command::Render(args)) => render::run(args),
+        Some(Command::Bench(command)) => bench::run(command),
         None => render::run(cli.render),
     }
 }

@@ -13,7 +13,7 @@ mod mesh;
 mod placement;
 pub mod shapes;
 
-pub use accel::{build_accel, Accel, AccelKind, PrimitiveSet};
+pub use accel::{build_accel, Accel, AccelKind, PrimitiveSet, TraversalStats};
 pub use geometry::{Geometry, GeometryBuilder};
 pub use hit::{Hit, SurfaceHit};
 pub use instance::{Instance, MeshAccel};

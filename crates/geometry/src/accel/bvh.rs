@@ -2,7 +2,7 @@
 //! Construction of SAH-based Bounding Volume Hierarchies", 2007), built in parallel over
 //! subtrees, flattened depth-first into 32-byte nodes, traversed nearest child first.
 
-use super::{Accel, PrimitiveSet};
+use super::{Accel, Counter, PrimitiveSet, TraversalStats};
 use crate::Hit;
 use glam::Vec3;
 use penumbra_core::{Aabb, Ray};
@@ -73,7 +73,13 @@ impl<P: PrimitiveSet> Bvh<P> {
     /// Visits the leaves the ray may hit, nearest first; `visit` returns a new `t_max` and
     /// whether to stop.
     #[inline]
-    fn traverse(&self, ray: &Ray, mut t_max: f32, mut visit: impl FnMut(u32, f32) -> (f32, bool)) {
+    fn traverse<C: Counter>(
+        &self,
+        ray: &Ray,
+        mut t_max: f32,
+        stats: &mut C,
+        mut visit: impl FnMut(u32, f32, &mut C) -> (f32, bool),
+    ) {
         if self.nodes.is_empty() {
             return;
         }
@@ -84,6 +90,7 @@ impl<P: PrimitiveSet> Bvh<P> {
         let mut current = 0usize;
         loop {
             let node = &self.nodes[current];
+            stats.node();
             let bounds = Aabb {
                 min: Vec3::from(node.min),
                 max: Vec3::from(node.max),
@@ -91,7 +98,7 @@ impl<P: PrimitiveSet> Bvh<P> {
             if bounds.hit(ray, inv_dir, t_max).is_some() {
                 if node.count > 0 {
                     for &prim in &self.order[node.offset as usize..node.offset as usize + node.count as usize] {
-                        let (t, stop) = visit(prim, t_max);
+                        let (t, stop) = visit(prim, t_max, stats);
                         if stop {
                             return;
                         }
@@ -118,22 +125,35 @@ impl<P: PrimitiveSet> Bvh<P> {
     }
 }
 
-impl<P: PrimitiveSet> Accel for Bvh<P> {
-    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+impl<P: PrimitiveSet> Bvh<P> {
+    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
         let mut closest = None;
-        self.traverse(ray, t_max, |prim, t_max| match self.prims.intersect(prim, ray, t_max) {
-            Some(hit) => {
-                closest = Some(hit);
-                (hit.t, false)
+        self.traverse(ray, t_max, stats, |prim, t_max, stats| {
+            stats.prims(1);
+            match self.prims.intersect(prim, ray, t_max) {
+                Some(hit) => {
+                    closest = Some(hit);
+                    (hit.t, false)
+                }
+                None => (t_max, false),
             }
-            None => (t_max, false),
         });
         closest
+    }
+}
+
+impl<P: PrimitiveSet> Accel for Bvh<P> {
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        self.closest(ray, t_max, &mut ())
+    }
+
+    fn intersect_counted(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit> {
+        self.closest(ray, t_max, stats)
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let mut hit = false;
-        self.traverse(ray, t_max, |prim, t_max| {
+        self.traverse(ray, t_max, &mut (), |prim, t_max, _| {
             hit = self.prims.occluded(prim, ray, t_max);
             (t_max, hit)
         });
@@ -145,6 +165,12 @@ impl<P: PrimitiveSet> Accel for Bvh<P> {
             min: n.min.into(),
             max: n.max.into(),
         })
+    }
+
+    fn memory_bytes(&self) -> usize {
+        std::mem::size_of::<Self>()
+            + self.nodes.capacity() * std::mem::size_of::<Node>()
+            + self.order.capacity() * std::mem::size_of::<u32>()
     }
 }
 

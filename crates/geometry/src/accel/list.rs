@@ -1,7 +1,7 @@
 //! The brute-force accelerator: every primitive, every ray. The reference the others are
 //! tested against.
 
-use super::{Accel, PrimitiveSet};
+use super::{Accel, Counter, PrimitiveSet, TraversalStats};
 use crate::Hit;
 use penumbra_core::{Aabb, Ray};
 use std::sync::Arc;
@@ -18,17 +18,37 @@ impl<P: PrimitiveSet> List<P> {
     }
 }
 
+/// The closest hit among primitives `ids` of `prims`, counting the tests.
+#[inline]
+pub fn closest_of<P: PrimitiveSet, C: Counter>(
+    prims: &P,
+    ids: impl Iterator<Item = u32>,
+    ray: &Ray,
+    mut t_max: f32,
+    stats: &mut C,
+) -> Option<Hit> {
+    let mut closest = None;
+    for i in ids {
+        stats.prims(1);
+        if let Some(hit) = prims.intersect(i, ray, t_max) {
+            t_max = hit.t;
+            closest = Some(hit);
+        }
+    }
+    closest
+}
+
 impl<P: PrimitiveSet> Accel for List<P> {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let mut closest = None;
-        let mut t_max = t_max;
-        for i in 0..self.prims.len() as u32 {
-            if let Some(hit) = self.prims.intersect(i, ray, t_max) {
-                t_max = hit.t;
-                closest = Some(hit);
-            }
-        }
-        closest
+        closest_of(self.prims.as_ref(), 0..self.prims.len() as u32, ray, t_max, &mut ())
+    }
+
+    fn intersect_counted(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit> {
+        closest_of(self.prims.as_ref(), 0..self.prims.len() as u32, ray, t_max, stats)
+    }
+
+    fn memory_bytes(&self) -> usize {
+        std::mem::size_of::<Self>()
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {

@@ -13,7 +13,7 @@ mod bvh;
 mod list;
 
 pub use bvh::Bvh;
-pub use list::List;
+pub use list::{closest_of, List};
 
 use crate::Hit;
 use penumbra_core::{Aabb, Ray};
@@ -26,6 +26,44 @@ pub trait Accel: Send + Sync {
     /// Whether anything is hit in `(0, t_max)`.
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool;
     fn bounds(&self) -> Aabb;
+    /// [`Accel::intersect`], also counting the nodes (or cells) visited and the primitives
+    /// tested, for benchmarks and cost images.
+    fn intersect_counted(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit>;
+    /// Bytes of memory the structure holds, not counting the primitives themselves.
+    fn memory_bytes(&self) -> usize;
+}
+
+/// What one or more traversals cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TraversalStats {
+    /// Nodes or cells visited.
+    pub nodes: u64,
+    /// Primitive intersection tests.
+    pub prims: u64,
+}
+
+/// Counts traversal work; the no-op implementation for `()` compiles away.
+pub trait Counter {
+    fn node(&mut self);
+    fn prims(&mut self, n: u64);
+}
+
+impl Counter for () {
+    #[inline(always)]
+    fn node(&mut self) {}
+    #[inline(always)]
+    fn prims(&mut self, _: u64) {}
+}
+
+impl Counter for TraversalStats {
+    #[inline(always)]
+    fn node(&mut self) {
+        self.nodes += 1;
+    }
+    #[inline(always)]
+    fn prims(&mut self, n: u64) {
+        self.prims += n;
+    }
 }
 
 /// What an accelerator is built over: indexable primitives with bounds and a ray test.
@@ -136,6 +174,14 @@ impl<P: PrimitiveSet> Accel for WithUnbounded<P> {
     }
     fn bounds(&self) -> Aabb {
         Aabb::INFINITE
+    }
+    fn intersect_counted(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit> {
+        let near = self.unbounded.intersect_counted(ray, t_max, stats);
+        let t = near.map_or(t_max, |h| h.t);
+        self.inner.intersect_counted(ray, t, stats).or(near)
+    }
+    fn memory_bytes(&self) -> usize {
+        self.inner.memory_bytes() + self.unbounded.memory_bytes() + std::mem::size_of::<Self>()
     }
 }
 
