@@ -116,9 +116,9 @@ fn bvh(c: &mut Criterion) {
     let mut g = c.benchmark_group("bvh");
     g.sample_size(10);
     g.bench_function(BenchmarkId::new("build", name), |b| {
-        b.iter(|| Bvh::new(Arc::new(MeshTriangles(mesh.clone()))))
+        b.iter(|| Bvh::new(Arc::new(MeshTriangles::new(mesh.clone()))))
     });
-    let bvh = Bvh::new(Arc::new(MeshTriangles(mesh.clone())));
+    let bvh = Bvh::new(Arc::new(MeshTriangles::new(mesh.clone())));
     let bounds = bvh.bounds();
     g.throughput(Throughput::Elements(RAYS as u64));
     g.sample_size(30);

@@ -85,7 +85,7 @@ pub fn run(command: BenchCommand) -> Result<(), Failure> {
             }
             .map_err(|e| bad(format!("cannot load {}: {e}", args.input.display())))?;
             let triangles = mesh.indices.len();
-            let prims = Arc::new(MeshTriangles(Arc::new(mesh)));
+            let prims = Arc::new(MeshTriangles::new(Arc::new(mesh)));
             let bounds = bounds_of(prims.as_ref());
             let camera = |side: u32| coherent_rays(bounds, side);
             race(&args, &kinds, &prims, triangles, &camera)

@@ -3,7 +3,7 @@
 
 use crate::accel::{build_accel, Accel, AccelKind, PrimitiveSet};
 use crate::instance::triangle_surface;
-use crate::shapes::triangle::intersect_triangle;
+use crate::shapes::triangle::{intersect_triangle_prepared, TriangleRay};
 use crate::{Hit, Instance, Shape, SurfaceHit, TriangleMesh};
 use penumbra_core::{Aabb, Ray};
 use std::sync::Arc;
@@ -130,6 +130,12 @@ impl Geometry {
 }
 
 impl PrimitiveSet for Geometry {
+    type RayData = TriangleRay;
+    #[inline]
+    fn prepare(&self, ray: &Ray) -> TriangleRay {
+        TriangleRay::new(ray)
+    }
+
     fn len(&self) -> usize {
         self.prims.len()
     }
@@ -143,7 +149,7 @@ impl PrimitiveSet for Geometry {
     }
 
     #[inline]
-    fn intersect(&self, i: u32, ray: &Ray, t_max: f32) -> Option<Hit> {
+    fn intersect(&self, i: u32, ray: &Ray, data: &TriangleRay, t_max: f32) -> Option<Hit> {
         match self.prims[i as usize] {
             Prim::Shape(s) => {
                 self.shapes[s as usize]
@@ -153,7 +159,7 @@ impl PrimitiveSet for Geometry {
             }
             Prim::Triangle { mesh, tri } => {
                 let p = self.meshes[mesh as usize].0.vertices(tri as usize);
-                intersect_triangle(ray, p, t_max).map(|(t, uv)| Hit { t, prim: i, sub: 0, uv })
+                intersect_triangle_prepared(data, p, t_max).map(|(t, uv)| Hit { t, prim: i, sub: 0, uv })
             }
             Prim::Instance(k) => self.instances[k as usize].0.intersect(ray, t_max).map(|h| Hit {
                 t: h.t,
@@ -164,10 +170,10 @@ impl PrimitiveSet for Geometry {
         }
     }
 
-    fn occluded(&self, i: u32, ray: &Ray, t_max: f32) -> bool {
+    fn occluded(&self, i: u32, ray: &Ray, data: &TriangleRay, t_max: f32) -> bool {
         match self.prims[i as usize] {
             Prim::Instance(k) => self.instances[k as usize].0.occluded(ray, t_max),
-            _ => self.intersect(i, ray, t_max).is_some(),
+            _ => self.intersect(i, ray, data, t_max).is_some(),
         }
     }
 }

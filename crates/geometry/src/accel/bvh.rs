@@ -1,10 +1,13 @@
-//! Bounding volume hierarchy with a binned surface-area-heuristic build (Wald, "On fast
-//! Construction of SAH-based Bounding Volume Hierarchies", 2007), built in parallel over
-//! subtrees, flattened depth-first into 32-byte nodes, traversed nearest child first.
+//! Bounding volume hierarchy: a binned surface-area-heuristic build (Wald, "On fast
+//! Construction of SAH-based Bounding Volume Hierarchies", 2007), run in parallel over
+//! subtrees, then collapsed into a 4-wide tree (as in Embree's BVH4) whose four child
+//! boxes are tested at once with SIMD slab tests. Traversal visits hit children nearest
+//! first and culls entries farther than the closest hit found; shadow rays stop at the
+//! first hit.
 
 use super::{Accel, Counter, PrimitiveSet, TraversalStats};
 use crate::Hit;
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use penumbra_core::{Aabb, Ray};
 use std::sync::Arc;
 
@@ -19,22 +22,36 @@ const PARALLEL_THRESHOLD: usize = 4096;
 const TRAVERSAL_COST: f32 = 1.0;
 const INTERSECT_COST: f32 = 1.0;
 
-/// A flattened node: an interior node's first child follows it, `offset` is its second
-/// child; a leaf (`count > 0`) holds primitives `order[offset..offset + count]`.
+/// A node of the binary build tree: an interior node's first child follows it, `offset` is
+/// its second child; a leaf (`count > 0`) holds primitives `order[offset..offset + count]`.
 #[derive(Clone, Copy, Debug)]
-#[repr(C, align(32))]
 struct Node {
     min: [f32; 3],
     offset: u32,
     max: [f32; 3],
     count: u16,
-    axis: u16,
+}
+
+/// A 4-wide node: the children's boxes in structure-of-arrays form, one SIMD lane each.
+/// `bounds[2 * axis]` holds the minima along `axis`, `bounds[2 * axis + 1]` the maxima;
+/// unused lanes hold an empty box that no ray hits.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct Node4 {
+    bounds: [[f32; 4]; 6],
+    /// Interior child: index of its node. Leaf child: its first slot in `order`.
+    child: [u32; 4],
+    /// Primitives in a leaf child; 0 for an interior child or an unused lane.
+    count: [u16; 4],
 }
 
 pub struct Bvh<P> {
     prims: Arc<P>,
-    nodes: Vec<Node>,
+    nodes: Vec<Node4>,
     order: Vec<u32>,
+    bounds: Aabb,
+    /// The whole tree is one leaf (a single primitive or coincident ones).
+    root_leaf: Option<(u32, u16)>,
 }
 
 #[derive(Clone, Copy)]
@@ -43,6 +60,10 @@ struct PrimInfo {
     centroid: Vec3,
     index: u32,
 }
+
+/// Largest traversal stack: a 4-wide tree pushes at most 3 entries per level, and the
+/// build caps the depth at `MAX_DEPTH`.
+const STACK: usize = 128;
 
 impl<P: PrimitiveSet> Bvh<P> {
     pub fn new(prims: Arc<P>) -> Self {
@@ -56,91 +77,154 @@ impl<P: PrimitiveSet> Bvh<P> {
                 }
             })
             .collect();
-        let nodes = if info.is_empty() {
+        let binary = if info.is_empty() {
             Vec::new()
         } else {
-            build(&mut info, 0)
+            build(&mut info, 0, 0)
         };
         let order = info.iter().map(|p| p.index).collect();
-        Bvh { prims, nodes, order }
+        let bounds = binary.first().map_or(Aabb::EMPTY, |n| Aabb {
+            min: n.min.into(),
+            max: n.max.into(),
+        });
+        let mut nodes = Vec::with_capacity(binary.len() / 2 + 1);
+        let root_leaf = match binary.first() {
+            Some(root) if root.count > 0 => Some((root.offset, root.count)),
+            Some(_) => {
+                collapse(&binary, 0, &mut nodes);
+                None
+            }
+            None => None,
+        };
+        nodes.shrink_to_fit();
+        Bvh {
+            prims,
+            nodes,
+            order,
+            bounds,
+            root_leaf,
+        }
     }
 
-    /// Number of nodes, for statistics.
+    /// Number of 4-wide nodes, for statistics.
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
 
-    /// Visits the leaves the ray may hit, nearest first; `visit` returns a new `t_max` and
-    /// whether to stop.
+    /// Visits the leaves the ray may hit, nearest first. `visit(first, count, t_max)`
+    /// tests a leaf and returns the new `t_max` and whether to stop.
     #[inline]
     fn traverse<C: Counter>(
         &self,
         ray: &Ray,
         mut t_max: f32,
         stats: &mut C,
-        mut visit: impl FnMut(u32, f32, &mut C) -> (f32, bool),
+        mut visit: impl FnMut(&[u32], f32, &mut C) -> (f32, bool),
     ) {
+        if let Some((first, count)) = self.root_leaf {
+            let leaf = &self.order[first as usize..first as usize + count as usize];
+            if self.bounds.hit(ray, safe_recip(ray.dir), t_max).is_some() {
+                visit(leaf, t_max, stats);
+            }
+            return;
+        }
         if self.nodes.is_empty() {
             return;
         }
-        let inv_dir = ray.dir.recip();
-        let negative = [inv_dir.x < 0.0, inv_dir.y < 0.0, inv_dir.z < 0.0];
-        let mut stack = [0u32; 64];
-        let mut top = 0;
-        let mut current = 0usize;
-        loop {
-            let node = &self.nodes[current];
-            stats.node();
-            let bounds = Aabb {
-                min: Vec3::from(node.min),
-                max: Vec3::from(node.max),
-            };
-            if bounds.hit(ray, inv_dir, t_max).is_some() {
-                if node.count > 0 {
-                    for &prim in &self.order[node.offset as usize..node.offset as usize + node.count as usize] {
-                        let (t, stop) = visit(prim, t_max, stats);
-                        if stop {
-                            return;
-                        }
-                        t_max = t;
-                    }
-                } else if negative[node.axis as usize] {
-                    stack[top] = current as u32 + 1;
-                    top += 1;
-                    current = node.offset as usize;
-                    continue;
-                } else {
-                    stack[top] = node.offset;
-                    top += 1;
-                    current += 1;
-                    continue;
-                }
-            }
-            if top == 0 {
-                return;
-            }
+        let inv = safe_recip(ray.dir);
+        let (ox, oy, oz) = (
+            Vec4::splat(ray.origin.x),
+            Vec4::splat(ray.origin.y),
+            Vec4::splat(ray.origin.z),
+        );
+        let (ix, iy, iz) = (Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z));
+        // The near plane of each axis is the minimum for a positive direction, else the maximum.
+        let near = [
+            (inv.x < 0.0) as usize,
+            2 + (inv.y < 0.0) as usize,
+            4 + (inv.z < 0.0) as usize,
+        ];
+        let far = [near[0] ^ 1, near[1] ^ 1, near[2] ^ 1];
+        // Entries: node index, or a leaf as (LEAF | first, count); and the entry distance.
+        let mut stack = [(0u32, 0u16, 0f32); STACK];
+        let mut top = 1;
+        while top > 0 {
             top -= 1;
-            current = stack[top] as usize;
+            let (index, count, t_near) = stack[top];
+            if t_near > t_max {
+                continue;
+            }
+            if count > 0 {
+                let leaf = &self.order[index as usize..index as usize + count as usize];
+                let (t, stop) = visit(leaf, t_max, stats);
+                if stop {
+                    return;
+                }
+                t_max = t;
+                continue;
+            }
+            let node = &self.nodes[index as usize];
+            stats.node();
+            let b = &node.bounds;
+            let t0 = ((Vec4::from(b[near[0]]) - ox) * ix)
+                .max((Vec4::from(b[near[1]]) - oy) * iy)
+                .max((Vec4::from(b[near[2]]) - oz) * iz)
+                .max(Vec4::ZERO);
+            let t1 = ((Vec4::from(b[far[0]]) - ox) * ix)
+                .min((Vec4::from(b[far[1]]) - oy) * iy)
+                .min((Vec4::from(b[far[2]]) - oz) * iz)
+                .min(Vec4::splat(t_max))
+                * ROUNDING;
+            let mut mask = t0.cmple(t1).bitmask();
+            if mask == 0 {
+                continue;
+            }
+            // Push the hit children farthest first, so the nearest is popped next.
+            let t0 = t0.to_array();
+            let start = top;
+            while mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let entry = (node.child[lane], node.count[lane], t0[lane]);
+                // Insertion into the pushed run, ordered by decreasing distance.
+                let mut k = top;
+                while k > start && stack[k - 1].2 < entry.2 {
+                    stack[k] = stack[k - 1];
+                    k -= 1;
+                }
+                stack[k] = entry;
+                top += 1;
+            }
         }
     }
-}
 
-impl<P: PrimitiveSet> Bvh<P> {
     fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+        let data = self.prims.prepare(ray);
         let mut closest = None;
-        self.traverse(ray, t_max, stats, |prim, t_max, stats| {
-            stats.prims(1);
-            match self.prims.intersect(prim, ray, t_max) {
-                Some(hit) => {
+        self.traverse(ray, t_max, stats, |leaf, mut t_max, stats| {
+            stats.prims(leaf.len() as u64);
+            for &prim in leaf {
+                if let Some(hit) = self.prims.intersect(prim, ray, &data, t_max) {
+                    t_max = hit.t;
                     closest = Some(hit);
-                    (hit.t, false)
                 }
-                None => (t_max, false),
             }
+            (t_max, false)
         });
         closest
     }
 }
+
+/// `1 / dir`, with zero components replaced by tiny ones of the same sign so that slab
+/// distances are never NaN.
+#[inline]
+fn safe_recip(dir: Vec3) -> Vec3 {
+    let tiny = |x: f32| if x.abs() < 1e-30 { 1e-30f32.copysign(x) } else { x };
+    Vec3::new(tiny(dir.x), tiny(dir.y), tiny(dir.z)).recip()
+}
+
+/// Widens exit distances by pbrt-v4's 1 + 2 gamma(3) so rounding never skips a box.
+const ROUNDING: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
 impl<P: PrimitiveSet> Accel for Bvh<P> {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
@@ -152,62 +236,120 @@ impl<P: PrimitiveSet> Accel for Bvh<P> {
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        let data = self.prims.prepare(ray);
         let mut hit = false;
-        self.traverse(ray, t_max, &mut (), |prim, t_max, _| {
-            hit = self.prims.occluded(prim, ray, t_max);
+        self.traverse(ray, t_max, &mut (), |leaf, t_max, _| {
+            hit = leaf.iter().any(|&prim| self.prims.occluded(prim, ray, &data, t_max));
             (t_max, hit)
         });
         hit
     }
 
     fn bounds(&self) -> Aabb {
-        self.nodes.first().map_or(Aabb::EMPTY, |n| Aabb {
-            min: n.min.into(),
-            max: n.max.into(),
-        })
+        self.bounds
     }
 
     fn memory_bytes(&self) -> usize {
         std::mem::size_of::<Self>()
-            + self.nodes.capacity() * std::mem::size_of::<Node>()
+            + self.nodes.capacity() * std::mem::size_of::<Node4>()
             + self.order.capacity() * std::mem::size_of::<u32>()
     }
 }
 
-/// Builds the subtree over `prims` (which it reorders), its leaves pointing at
+/// Collapses the binary subtree at `index` into 4-wide nodes appended to `out`; returns the
+/// index of its node. Each node adopts up to four descendants by repeatedly opening the
+/// interior child with the largest surface area.
+fn collapse(binary: &[Node], index: usize, out: &mut Vec<Node4>) -> u32 {
+    let node = &binary[index];
+    let mut children: Vec<usize> = vec![index + 1, node.offset as usize];
+    while children.len() < 4 {
+        let open = children
+            .iter()
+            .enumerate()
+            .filter(|(_, &c)| binary[c].count == 0)
+            .max_by(|a, b| area(&binary[*a.1]).total_cmp(&area(&binary[*b.1])));
+        let Some((k, &c)) = open else { break };
+        children.swap_remove(k);
+        children.push(c + 1);
+        children.push(binary[c].offset as usize);
+    }
+    let me = out.len();
+    out.push(Node4 {
+        bounds: [
+            [f32::INFINITY; 4],
+            [f32::NEG_INFINITY; 4],
+            [f32::INFINITY; 4],
+            [f32::NEG_INFINITY; 4],
+            [f32::INFINITY; 4],
+            [f32::NEG_INFINITY; 4],
+        ],
+        child: [0; 4],
+        count: [0; 4],
+    });
+    for (lane, &c) in children.iter().enumerate() {
+        let n = &binary[c];
+        let child = if n.count > 0 {
+            n.offset
+        } else {
+            collapse(binary, c, out)
+        };
+        let slot = &mut out[me];
+        for axis in 0..3 {
+            slot.bounds[2 * axis][lane] = n.min[axis];
+            slot.bounds[2 * axis + 1][lane] = n.max[axis];
+        }
+        slot.child[lane] = child;
+        slot.count[lane] = n.count;
+    }
+    me as u32
+}
+
+fn area(n: &Node) -> f32 {
+    Aabb {
+        min: n.min.into(),
+        max: n.max.into(),
+    }
+    .surface_area()
+}
+
+/// Binary tree depth beyond which the build makes leaves, keeping traversal stacks bounded.
+const MAX_DEPTH: usize = 40;
+
+/// Builds the subtree over `prims` (which it reorders) at `depth`, its leaves pointing at
 /// `first + index within prims`; returns its nodes, root first.
-fn build(prims: &mut [PrimInfo], first: usize) -> Vec<Node> {
+fn build(prims: &mut [PrimInfo], first: usize, depth: usize) -> Vec<Node> {
     let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
     let leaf = |prims: &[PrimInfo]| Node {
         min: bounds.min.into(),
         offset: first as u32,
         max: bounds.max.into(),
         count: prims.len() as u16,
-        axis: 0,
     };
-    if prims.len() <= 1 {
+    if prims.len() <= 1 || (depth >= MAX_DEPTH && prims.len() <= u16::MAX as usize) {
         return vec![leaf(prims)];
     }
-    let (axis, mid) = match choose_split(prims, &bounds) {
-        Some(split) => split,
+    let mid = match choose_split(prims, &bounds) {
+        Some(mid) => mid,
         None => {
             // A leaf is cheaper, or every centroid coincides: a leaf unless it is too large,
             // in which case halve the set by index.
-            let centroids = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid));
-            if prims.len() <= MAX_LEAF || prims.len() <= MAX_COINCIDENT_LEAF {
+            if prims.len() <= MAX_COINCIDENT_LEAF {
                 return vec![leaf(prims)];
             }
-            let axis = centroids.max_axis();
+            let axis = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid)).max_axis();
             let mid = prims.len() / 2;
             prims.select_nth_unstable_by(mid, |a, b| a.centroid[axis].total_cmp(&b.centroid[axis]));
-            (axis, mid)
+            mid
         }
     };
     let (left, right) = prims.split_at_mut(mid);
     let (left_nodes, right_nodes) = if left.len() + right.len() > PARALLEL_THRESHOLD {
-        rayon::join(|| build(left, first), || build(right, first + mid))
+        rayon::join(
+            || build(left, first, depth + 1),
+            || build(right, first + mid, depth + 1),
+        )
     } else {
-        (build(left, first), build(right, first + mid))
+        (build(left, first, depth + 1), build(right, first + mid, depth + 1))
     };
     let mut nodes = Vec::with_capacity(1 + left_nodes.len() + right_nodes.len());
     let second = 1 + left_nodes.len();
@@ -216,7 +358,6 @@ fn build(prims: &mut [PrimInfo], first: usize) -> Vec<Node> {
         offset: second as u32,
         max: bounds.max.into(),
         count: 0,
-        axis: axis as u16,
     });
     nodes.extend(left_nodes.into_iter().map(|n| shift(n, 1)));
     nodes.extend(right_nodes.into_iter().map(|n| shift(n, second)));
@@ -231,9 +372,9 @@ fn shift(mut node: Node, by: usize) -> Node {
     node
 }
 
-/// The best binned SAH split: the axis and the number of primitives on the left, after
-/// partitioning `prims` in place. `None` when a leaf is cheaper or centroids coincide.
-fn choose_split(prims: &mut [PrimInfo], bounds: &Aabb) -> Option<(usize, usize)> {
+/// The best binned SAH split: the number of primitives on the left, after partitioning
+/// `prims` in place. `None` when a leaf is cheaper or centroids coincide.
+fn choose_split(prims: &mut [PrimInfo], bounds: &Aabb) -> Option<usize> {
     let centroids = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid));
     let axis = centroids.max_axis();
     let (lo, hi) = (centroids.min[axis], centroids.max[axis]);
@@ -274,7 +415,7 @@ fn choose_split(prims: &mut [PrimInfo], bounds: &Aabb) -> Option<(usize, usize)>
     let area = bounds.surface_area();
     let split_cost = TRAVERSAL_COST + INTERSECT_COST * best.0 / area.max(f32::MIN_POSITIVE);
     let leaf_cost = INTERSECT_COST * prims.len() as f32;
-    if !best.0.is_finite() || (prims.len() <= MAX_LEAF && split_cost >= leaf_cost) {
+    if !best.0.is_finite() || prims.len() <= MAX_LEAF || split_cost >= leaf_cost && prims.len() <= 2 * MAX_LEAF {
         return None;
     }
     let mut mid = 0;
@@ -284,5 +425,5 @@ fn choose_split(prims: &mut [PrimInfo], bounds: &Aabb) -> Option<(usize, usize)>
             mid += 1;
         }
     }
-    Some((axis, mid))
+    Some(mid)
 }

@@ -28,9 +28,10 @@ pub fn closest_of<P: PrimitiveSet, C: Counter>(
     stats: &mut C,
 ) -> Option<Hit> {
     let mut closest = None;
+    let data = prims.prepare(ray);
     for i in ids {
         stats.prims(1);
-        if let Some(hit) = prims.intersect(i, ray, t_max) {
+        if let Some(hit) = prims.intersect(i, ray, &data, t_max) {
             t_max = hit.t;
             closest = Some(hit);
         }
@@ -52,7 +53,8 @@ impl<P: PrimitiveSet> Accel for List<P> {
     }
 
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        (0..self.prims.len() as u32).any(|i| self.prims.occluded(i, ray, t_max))
+        let data = self.prims.prepare(ray);
+        (0..self.prims.len() as u32).any(|i| self.prims.occluded(i, ray, &data, t_max))
     }
 
     fn bounds(&self) -> Aabb {

@@ -68,15 +68,18 @@ impl Counter for TraversalStats {
 
 /// What an accelerator is built over: indexable primitives with bounds and a ray test.
 pub trait PrimitiveSet: Send + Sync + 'static {
+    /// What the primitives' tests need of a ray, computed once per query.
+    type RayData;
+    fn prepare(&self, ray: &Ray) -> Self::RayData;
     fn len(&self) -> usize;
     fn is_empty(&self) -> bool {
         self.len() == 0
     }
     fn bounds(&self, i: u32) -> Aabb;
     /// The hit of primitive `i` in `(0, t_max)`, with `Hit::prim == i`.
-    fn intersect(&self, i: u32, ray: &Ray, t_max: f32) -> Option<Hit>;
-    fn occluded(&self, i: u32, ray: &Ray, t_max: f32) -> bool {
-        self.intersect(i, ray, t_max).is_some()
+    fn intersect(&self, i: u32, ray: &Ray, data: &Self::RayData, t_max: f32) -> Option<Hit>;
+    fn occluded(&self, i: u32, ray: &Ray, data: &Self::RayData, t_max: f32) -> bool {
+        self.intersect(i, ray, data, t_max).is_some()
     }
 }
 
@@ -143,17 +146,21 @@ struct Subset<P> {
 }
 
 impl<P: PrimitiveSet> PrimitiveSet for Subset<P> {
+    type RayData = P::RayData;
+    fn prepare(&self, ray: &Ray) -> P::RayData {
+        self.prims.prepare(ray)
+    }
     fn len(&self) -> usize {
         self.ids.len()
     }
     fn bounds(&self, i: u32) -> Aabb {
         self.prims.bounds(self.ids[i as usize])
     }
-    fn intersect(&self, i: u32, ray: &Ray, t_max: f32) -> Option<Hit> {
-        self.prims.intersect(self.ids[i as usize], ray, t_max)
+    fn intersect(&self, i: u32, ray: &Ray, data: &P::RayData, t_max: f32) -> Option<Hit> {
+        self.prims.intersect(self.ids[i as usize], ray, data, t_max)
     }
-    fn occluded(&self, i: u32, ray: &Ray, t_max: f32) -> bool {
-        self.prims.occluded(self.ids[i as usize], ray, t_max)
+    fn occluded(&self, i: u32, ray: &Ray, data: &P::RayData, t_max: f32) -> bool {
+        self.prims.occluded(self.ids[i as usize], ray, data, t_max)
     }
 }
 

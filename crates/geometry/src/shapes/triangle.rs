@@ -5,30 +5,57 @@
 //! rasterisation) breaks the tie when the ray runs exactly through the edge, so it hits
 //! exactly one of the two triangles.
 
-use glam::{DVec3, Vec2, Vec3};
+use glam::{DVec3, Mat3A, Vec2, Vec3, Vec3A};
 use penumbra_core::Ray;
+
+/// What the watertight test needs of a ray, computed once per ray: the permutation that
+/// makes z the dominant direction followed by the shear that aligns the ray with +z, as one
+/// matrix. The matrix's zero entries add exact zeros, so every vertex maps to the same
+/// floats as with the paper's permute-then-shear, and shared edges stay watertight.
+#[derive(Clone, Copy, Debug)]
+pub struct TriangleRay {
+    origin: Vec3A,
+    to_ray: Mat3A,
+    /// 1 / (the dominant direction component): scales z' to ray distance.
+    sz: f32,
+}
+
+impl TriangleRay {
+    #[inline]
+    pub fn new(ray: &Ray) -> Self {
+        let kz = ray.dir.abs().max_position();
+        let kx = if kz == 2 { 0 } else { kz + 1 };
+        let ky = if kx == 2 { 0 } else { kx + 1 };
+        let sz = 1.0 / ray.dir[kz];
+        let (sx, sy) = (-ray.dir[kx] * sz, -ray.dir[ky] * sz);
+        // Rows: x' = q[kx] + sx q[kz], y' = q[ky] + sy q[kz], z' = q[kz].
+        let mut rows = [[0.0f32; 3]; 3];
+        rows[0][kx] = 1.0;
+        rows[0][kz] = sx;
+        rows[1][ky] = 1.0;
+        rows[1][kz] = sy;
+        rows[2][kz] = 1.0;
+        let to_ray = Mat3A::from_cols_array_2d(&rows).transpose();
+        TriangleRay {
+            origin: ray.origin.into(),
+            to_ray,
+            sz,
+        }
+    }
+}
 
 /// Distance and barycentrics `(b1, b2)` of the hit of `ray` with triangle `p`, if it lies in
 /// `(0, t_max)`. Degenerate triangles are never hit.
 #[inline]
 pub fn intersect_triangle(ray: &Ray, p: [Vec3; 3], t_max: f32) -> Option<(f32, Vec2)> {
-    // Permute so that z is the ray's dominant axis, keeping the winding.
-    let kz = ray.dir.abs().max_position();
-    let kx = if kz == 2 { 0 } else { kz + 1 };
-    let ky = if kx == 2 { 0 } else { kx + 1 };
-    let d = Vec3::new(ray.dir[kx], ray.dir[ky], ray.dir[kz]);
-    let permute = |q: Vec3| {
-        let q = q - ray.origin;
-        Vec3::new(q[kx], q[ky], q[kz])
-    };
-    let (mut p0, mut p1, mut p2) = (permute(p[0]), permute(p[1]), permute(p[2]));
-    // Shear so the ray runs along +z.
-    let sz = 1.0 / d.z;
-    let (sx, sy) = (-d.x * sz, -d.y * sz);
-    for q in [&mut p0, &mut p1, &mut p2] {
-        q.x += sx * q.z;
-        q.y += sy * q.z;
-    }
+    intersect_triangle_prepared(&TriangleRay::new(ray), p, t_max)
+}
+
+/// [`intersect_triangle`] with the ray's permutation and shear already computed.
+#[inline]
+pub fn intersect_triangle_prepared(r: &TriangleRay, p: [Vec3; 3], t_max: f32) -> Option<(f32, Vec2)> {
+    let transform = |q: Vec3| Vec3::from(r.to_ray * (Vec3A::from(q) - r.origin));
+    let (p0, p1, p2) = (transform(p[0]), transform(p[1]), transform(p[2]));
     let mut e0 = p1.x * p2.y - p1.y * p2.x;
     let mut e1 = p2.x * p0.y - p2.y * p0.x;
     let mut e2 = p0.x * p1.y - p0.y * p1.x;
@@ -54,6 +81,7 @@ pub fn intersect_triangle(ray: &Ray, p: [Vec3; 3], t_max: f32) -> Option<(f32, V
     if !(inside(e0, p1, p2) && inside(e1, p2, p0) && inside(e2, p0, p1)) {
         return None;
     }
+    let sz = r.sz;
     let t_scaled = (e0 * p0.z + e1 * p1.z + e2 * p2.z) * sz;
     if det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det) {
         return None;
