@@ -87,7 +87,7 @@ fn primitives(c: &mut Criterion) {
     let rays = incoherent_rays(unit, 1);
     let mut g = c.benchmark_group("primitive");
     g.throughput(Throughput::Elements(RAYS as u64));
-    let sphere = Sphere::new(Vec3::ZERO, 0.8, &Transform::IDENTITY);
+    let sphere = Sphere::new(Vec3::ZERO, 0.8, &Transform::IDENTITY).unwrap();
     g.bench_function("ray-sphere", |b| {
         b.iter(|| {
             rays.iter()

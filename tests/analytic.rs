@@ -97,6 +97,86 @@ fn diffuse_plane_under_a_point_light() {
 }
 
 #[test]
+fn diffuse_sphere_under_a_point_light_has_no_shadow_acne() {
+    // On a curved surface the shadow ray must leave the surface it starts on: without a
+    // robust offset, some pixels shadow themselves. Each pixel sees the point
+    // (x, sqrt(1 - x^2 - z^2), z) of a unit sphere with radiance albedo/pi I cos / r^2.
+    let (res, albedo, intensity) = (48, 0.7, 9.0);
+    let light = Vec3::new(0.4, 3.0, 0.3);
+    let mut d = top_down_scene(4.0, res);
+    add(
+        &mut d,
+        ShapeKind::Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        },
+        diffuse(albedo),
+    );
+    d.lights.push(LightDesc::Point {
+        position: light,
+        intensity: Rgb::splat(intensity),
+    });
+    let film = penumbra::render(&d, &Default::default()).unwrap().film;
+    let mut checked = 0;
+    for y in 0..res {
+        for x in 0..res {
+            let (px, pz) = pixel_point(x, y, res);
+            let h2 = 1.0 - px * px - pz * pz;
+            if h2 < 0.2 {
+                continue; // near the silhouette the footprint straddles the edge
+            }
+            let p = Vec3::new(px, h2.sqrt(), pz);
+            let to_light = light - p;
+            let cos = p.dot(to_light.normalize()).max(0.0);
+            let expected = albedo / PI * intensity * cos / to_light.length_squared();
+            let got = film.pixel(x, y).value().r;
+            assert!(
+                (got - expected).abs() <= 1e-3 * expected + 1e-5,
+                "pixel ({x}, {y}): {got} vs {expected}"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 1000);
+}
+
+#[test]
+fn pixels_average_their_footprint() {
+    // An edge between black and white through the middle of every pixel column: with a box
+    // filter of one pixel, each pixel converges to the covered fraction. 64 stratified
+    // samples estimate a half-covered pixel to within 1/64 (one stratum).
+    let res = 8;
+    let mut d = top_down_scene(2.0, res);
+    d.render.spp = 64;
+    d.render.filter = Filter::Box { radius: 0.5 };
+    // Checks of side 2/8 + 1/8 offset put an edge at x = 1/8, inside pixel column 4.
+    let checker = Phong {
+        diffuse: Texture::Checker {
+            even: Rgb::WHITE,
+            odd: Rgb::BLACK,
+            size: 10.0,
+        },
+        ..Phong::default()
+    };
+    add(
+        &mut d,
+        ShapeKind::Plane {
+            point: Vec3::new(0.125, 0.0, -5.0),
+            normal: Vec3::Y,
+        },
+        checker,
+    );
+    d.ambient = Rgb::WHITE;
+    let film = penumbra::render(&d, &Default::default()).unwrap().film;
+    // Plane texture coordinates run along the plane's own frame; find the column where the
+    // value is strictly between black and white: it must be close to one half.
+    let row: Vec<f32> = (0..res).map(|x| film.pixel(x, 3).value().r).collect();
+    let partial: Vec<f32> = row.iter().copied().filter(|v| *v > 0.01 && *v < 0.99).collect();
+    assert_eq!(partial.len(), 1, "{row:?}");
+    assert!((partial[0] - 0.5).abs() <= 1.0 / 64.0 + 1e-4, "{row:?}");
+}
+
+#[test]
 fn mirror_reflects_a_lit_ceiling() {
     // A mirror floor (reflectance 0.8) under a diffuse ceiling lit from below: each pixel is
     // 0.8 times the ceiling's radiance straight above the point.

@@ -154,6 +154,10 @@ fn bad_scenes_name_the_line_and_exit_2() {
     );
     expect_scene_error("[render]\nspp = 0\n", 2, "expected a whole number from 1 to");
     expect_scene_error("[render]\nwidth = 100000\n", 2, "from 1 to 65536");
+    expect_scene_error("[render]\nmax_depth = 1000\n", 2, "from 0 to 256");
+    expect_scene_error("[render]\nwidth = 60000\nheight = 60000\n", 3, "pixels");
+    expect_scene_error("[[shape]]\ntype = \"sphere\"\nradius = 1e39\n", 3, "finite");
+    expect_scene_error("[[shape]]\ntype = \"sphere\"\nradius = 1e-40\n", 1, "degenerate");
     expect_scene_error(
         "[[shape]]\ntype = \"mesh\"\npositions = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]\nindices = [[0, 1, -2]]\n",
         4,
@@ -190,6 +194,9 @@ fn bad_arguments_exit_2() {
         (vec!["render", "--res", "wide"], "--res"),
         (vec!["render", "--bogus"], "--bogus"),
         (vec!["render", "--threads", "0"], "--threads"),
+        (vec!["render", "--max-depth", "300"], "--max-depth"),
+        (vec!["render", "--exposure", "NaN"], "--exposure"),
+        (vec!["render", "--res", "60000x60000"], "pixels"),
         (vec!["render", "-o", "image.bmp"], "unknown image format"),
         (vec!["render", "--integrator", "magic"], "unknown value `magic`"),
         (vec!["render", "does-not-exist.toml"], "cannot read does-not-exist.toml"),

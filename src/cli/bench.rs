@@ -87,7 +87,7 @@ pub fn run(command: BenchCommand) -> Result<(), Failure> {
             let triangles = mesh.indices.len();
             let prims = Arc::new(MeshTriangles::new(Arc::new(mesh)));
             let bounds = bounds_of(prims.as_ref());
-            let camera = |side: u32| coherent_rays(bounds, side);
+            let camera = |side: u32| (side, side, coherent_rays(bounds, side));
             race(&args, &kinds, &prims, triangles, &camera)
         }
         "toml" => {
@@ -96,13 +96,13 @@ pub fn run(command: BenchCommand) -> Result<(), Failure> {
             let triangles = scene.geometry.triangle_count();
             let (w, h) = (scene.width, scene.height);
             let camera = |_side: u32| {
-                (0..w * h)
+                let rays = (0..w as u64 * h as u64)
                     .map(|i| {
-                        scene
-                            .camera
-                            .generate_ray(glam::Vec2::new((i % w) as f32 + 0.5, (i / w) as f32 + 0.5))
+                        let (x, y) = ((i % w as u64) as f32, (i / w as u64) as f32);
+                        scene.camera.generate_ray(glam::Vec2::new(x + 0.5, y + 0.5))
                     })
-                    .collect()
+                    .collect();
+                (w, h, rays)
             };
             race(&args, &kinds, &scene.geometry, triangles, &camera)
         }
@@ -120,13 +120,13 @@ fn bounds_of<P: PrimitiveSet>(prims: &P) -> penumbra::math::Aabb {
 fn ray_sets<P: PrimitiveSet>(
     args: &AccelArgs,
     prims: &P,
-    camera: &dyn Fn(u32) -> Vec<Ray>,
+    camera: &dyn Fn(u32) -> (u32, u32, Vec<Ray>),
 ) -> Result<Vec<RaySet>, Failure> {
     if args.rays.is_empty() {
         return Ok(vec![
             RaySet {
                 name: "coherent".into(),
-                rays: camera(512),
+                rays: camera(512).2,
                 expected: None,
             },
             RaySet {
@@ -168,7 +168,7 @@ fn race<P: PrimitiveSet>(
     kinds: &[AccelKind],
     prims: &Arc<P>,
     triangles: usize,
-    camera: &dyn Fn(u32) -> Vec<Ray>,
+    camera: &dyn Fn(u32) -> (u32, u32, Vec<Ray>),
 ) -> Result<(), Failure> {
     let sets = ray_sets(args, prims.as_ref(), camera)?;
     println!(
@@ -259,15 +259,9 @@ fn write_cost_images<P: PrimitiveSet>(
     args: &AccelArgs,
     kinds: &[AccelKind],
     prims: &Arc<P>,
-    camera: &dyn Fn(u32) -> Vec<Ray>,
+    camera: &dyn Fn(u32) -> (u32, u32, Vec<Ray>),
 ) -> Result<(), Failure> {
-    let rays = camera(256);
-    let side = (rays.len() as f64).sqrt() as u32;
-    let (w, h) = if side * side == rays.len() as u32 {
-        (side, side)
-    } else {
-        (rays.len() as u32, 1)
-    };
+    let (w, h, rays) = camera(256);
     let costs: Vec<(AccelKind, Vec<f32>)> = kinds
         .iter()
         .map(|&kind| {

@@ -57,8 +57,9 @@ pub struct RenderArgs {
     /// Integrator: whitted.
     #[arg(long)]
     pub integrator: Option<String>,
-    /// Maximum number of reflection/refraction bounces after the camera ray (default 5).
-    #[arg(long)]
+    /// Maximum number of reflection/refraction bounces after the camera ray (default 5, at
+    /// most 256).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=penumbra::renderer::integrators::MAX_DEPTH_LIMIT as i64))]
     pub max_depth: Option<u32>,
     /// Stop tracing rays whose accumulated weight falls below this (default 1e-3).
     #[arg(long, value_parser = parse_non_negative)]
@@ -73,7 +74,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub sampler: Option<String>,
     /// Exposure in stops applied to PNG output (the image is multiplied by 2^EV).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = parse_finite)]
     pub exposure: f32,
     /// No progress bar and no summary line.
     #[arg(short, long)]
@@ -94,7 +95,18 @@ fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
     if w == 0 || h == 0 || w as i64 > max || h as i64 > max {
         return Err(format!("{w}x{h}: width and height must be between 1 and {max}"));
     }
+    let max_pixels = penumbra::scene::formats::native::MAX_PIXELS;
+    if w as u64 * h as u64 > max_pixels {
+        return Err(format!("{w}x{h} is more than {max_pixels} pixels"));
+    }
     Ok((w, h))
+}
+
+fn parse_finite(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err(format!("`{s}` is not a finite number")),
+    }
 }
 
 fn parse_non_negative(s: &str) -> Result<f32, String> {

@@ -36,11 +36,12 @@ impl Transform {
         }
     }
 
-    /// A scale; `None` if any factor is zero.
+    /// A scale; `None` if any factor is zero or its inverse is not a finite number.
     pub fn scale(s: Vec3) -> Option<Self> {
-        (s.x * s.y * s.z != 0.0).then(|| Transform {
+        let inv = s.recip();
+        (s.is_finite() && inv.is_finite() && s.cmpne(Vec3::ZERO).all()).then(|| Transform {
             m: Mat4::from_scale(s),
-            inv: Mat4::from_scale(s.recip()),
+            inv: Mat4::from_scale(inv),
         })
     }
 

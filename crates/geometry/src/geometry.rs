@@ -177,3 +177,39 @@ impl PrimitiveSet for Geometry {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{AccelKind, MeshAccel};
+    use glam::Vec3;
+    use penumbra_core::Transform;
+
+    #[test]
+    fn mirrored_instances_and_meshes_keep_their_outside() {
+        // One triangle facing +z, mirrored in x: as a flattened mesh and as an instance, the
+        // geometric normal must still face +z.
+        let tri = TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+            indices: vec![[0, 1, 2]],
+            ..Default::default()
+        };
+        let mirror = Transform::scale(Vec3::new(-1.0, 1.0, 1.0)).unwrap();
+        let mut b = GeometryBuilder::new();
+        b.add_mesh(tri.transformed(&mirror));
+        let shared = Arc::new(MeshAccel::new(Arc::new(tri), AccelKind::Bvh));
+        b.add_instance(Instance::new(
+            shared,
+            &mirror.then(Transform::translate(Vec3::new(0.0, 0.0, -1.0))),
+        ));
+        let g = Arc::new(b.build());
+        let accel = g.accel(AccelKind::List);
+        for z in [0.0, -1.0] {
+            let ray = Ray::new(Vec3::new(-0.25, 0.25, z + 1.0), Vec3::NEG_Z);
+            let hit = accel.intersect(&ray, 1.5).unwrap();
+            let s = g.surface(&ray, &hit);
+            assert!((s.ng - Vec3::Z).length() < 1e-6, "object {}: ng {}", s.object, s.ng);
+            assert!((s.p - Vec3::new(-0.25, 0.25, z)).length() < 1e-6);
+        }
+    }
+}

@@ -67,7 +67,6 @@ impl MeshAccel {
 pub struct Instance {
     mesh: Arc<MeshAccel>,
     placement: Placement,
-    flip: bool,
     bounds: Aabb,
 }
 
@@ -78,7 +77,6 @@ impl Instance {
         Instance {
             mesh,
             placement,
-            flip: to_world.swaps_handedness(),
             bounds,
         }
     }
@@ -105,7 +103,8 @@ impl Instance {
     /// World-space position, geometric and shading normals and texture coordinates.
     pub fn surface(&self, tri: u32, b: Vec2) -> (Vec3, Vec3, Vec3, Vec2) {
         let (p, ng, ns, uv) = triangle_surface(&self.mesh.mesh, tri, b);
-        let ng = self.placement.normal_to_world(if self.flip { -ng } else { ng });
+        // The inverse transpose keeps normals on the same side, mirrors included.
+        let ng = self.placement.normal_to_world(ng);
         let ns = self.placement.normal_to_world(ns);
         let ns = if ns.dot(ng) < 0.0 { -ns } else { ns };
         (self.placement.point_to_world(p), ng, ns, uv)

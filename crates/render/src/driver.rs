@@ -133,7 +133,7 @@ fn render_tile(
     tile: Tile,
 ) -> TileResult {
     let mut sampler = PixelSampler::new(options.sampler, options.seed, options.spp);
-    let mut pixels = Vec::with_capacity((tile.size.x * tile.size.y) as usize);
+    let mut pixels = Vec::with_capacity(tile.size.x as usize * tile.size.y as usize);
     let mut rays = RayCounts::default();
     let mut rejected = 0;
     for y in 0..tile.size.y {

@@ -44,17 +44,22 @@ impl Film {
         Film {
             width,
             height,
-            pixels: vec![Pixel::default(); (width * height) as usize],
+            pixels: vec![Pixel::default(); width as usize * height as usize],
             rejected: 0,
         }
     }
 
     pub fn pixel(&self, x: u32, y: u32) -> &Pixel {
-        &self.pixels[(y * self.width + x) as usize]
+        &self.pixels[self.index(x, y)]
+    }
+
+    fn index(&self, x: u32, y: u32) -> usize {
+        y as usize * self.width as usize + x as usize
     }
 
     pub fn pixel_mut(&mut self, x: u32, y: u32) -> &mut Pixel {
-        &mut self.pixels[(y * self.width + x) as usize]
+        let i = self.index(x, y);
+        &mut self.pixels[i]
     }
 
     /// The image: every pixel's estimate, row by row from the top.

@@ -71,7 +71,9 @@ impl FilterSampler {
             cdf[i + 1] = cdf[i] + filter.eval_1d(x).abs() * dx;
         }
         let integral = cdf[TABLE_SIZE];
-        cdf.iter_mut().for_each(|c| *c /= integral);
+        if integral > 0.0 {
+            cdf.iter_mut().for_each(|c| *c /= integral);
+        }
         FilterSampler { filter, cdf, integral }
     }
 
@@ -91,6 +93,10 @@ impl FilterSampler {
     pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
         let (x, px) = self.sample_1d(u.x);
         let (y, py) = self.sample_1d(u.y);
+        if self.integral.is_nan() || self.integral <= 0.0 {
+            // A filter narrower than the table's cells: the limit is a delta at the centre.
+            return (Vec2::ZERO, 1.0);
+        }
         let f = self.filter.eval_1d(x) * self.filter.eval_1d(y) / (self.integral * self.integral);
         (Vec2::new(x, y), if px * py > 0.0 { f / (px * py) } else { 0.0 })
     }
@@ -100,6 +106,15 @@ impl FilterSampler {
 mod tests {
     use super::*;
     use penumbra_core::Pcg32;
+
+    #[test]
+    fn a_filter_narrower_than_the_table_is_a_delta() {
+        let s = FilterSampler::new(Filter::Gaussian {
+            radius: 1.5,
+            sigma: 1e-4,
+        });
+        assert_eq!(s.sample(Vec2::new(0.3, 0.9)), (Vec2::ZERO, 1.0));
+    }
 
     #[test]
     fn offsets_follow_the_filter_and_weights_average_one() {

@@ -27,6 +27,17 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
     let default_material = materials.len() as u32;
     materials.push(Material::Phong(Phong::default()));
 
+    // Descriptions built in code skip the reader's checks: check the references here.
+    for s in &desc.shapes {
+        let bad_material = s.material.is_some_and(|m| m >= desc.materials.len());
+        let bad_mesh = matches!(s.kind, ShapeKind::Instance { mesh } if mesh >= desc.meshes.len());
+        if bad_material || bad_mesh {
+            return Err(fail(
+                &s.location,
+                "a shape refers to a material or mesh the scene does not define",
+            ));
+        }
+    }
     let shared: Vec<Arc<MeshAccel>> = desc
         .meshes
         .iter()
@@ -38,7 +49,9 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         let t = &s.transform;
         let degenerate = |what: &str| fail(&s.location, &format!("the {what} is degenerate under its transform"));
         let shape = match &s.kind {
-            ShapeKind::Sphere { center, radius } => Some(Shape::Sphere(Sphere::new(*center, *radius, t))),
+            ShapeKind::Sphere { center, radius } => Some(Shape::Sphere(
+                Sphere::new(*center, *radius, t).ok_or_else(|| degenerate("sphere"))?,
+            )),
             ShapeKind::Plane { point, normal } => Some(Shape::Plane(
                 Plane::new(*point, *normal, t).ok_or_else(|| degenerate("plane"))?,
             )),

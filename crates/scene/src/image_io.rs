@@ -177,7 +177,14 @@ mod tests {
         assert_eq!(got[4], px[4].to_array());
         let png_path = dir.path().join("a.png");
         write_image(&png_path, &img, 1.0).unwrap();
-        assert!(std::fs::metadata(&png_path).unwrap().len() > 0);
+        // Decode it: exposure +1 doubles, then clamps and sRGB-encodes.
+        let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&png_path).unwrap()));
+        let mut reader = decoder.read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        assert_eq!((info.width, info.height), (3, 2));
+        let expect = |v: f32| (srgb_encode((2.0 * v).min(1.0)) * 255.0 + 0.5) as u8;
+        assert_eq!(&buf[3..6], &[expect(px[1].r), expect(0.5), 255]);
         // No temporary files left behind.
         let names: Vec<_> = std::fs::read_dir(dir.path())
             .unwrap()

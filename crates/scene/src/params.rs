@@ -70,10 +70,6 @@ impl<'a> Table<'a> {
         }
     }
 
-    pub fn u32_or(&self, key: &str, default: u32) -> Result<u32> {
-        self.get(key).map_or(Ok(default), |v| v.u32())
-    }
-
     pub fn vec3_or(&self, key: &str, default: Vec3) -> Result<Vec3> {
         self.get(key).map_or(Ok(default), |v| v.vec3())
     }
@@ -140,8 +136,8 @@ impl<'a> Value<'a> {
                 .map(|i| i as f64),
             _ => return Err(self.type_error("a number")),
         };
-        match x {
-            Some(x) if x.is_finite() => Ok(x as f32),
+        match x.map(|x| x as f32) {
+            Some(x) if x.is_finite() => Ok(x),
             _ => Err(self.error("expected a finite number").label("not a finite number")),
         }
     }

@@ -144,7 +144,15 @@ mod tests {
             let mut strata: Vec<u32> = s.iter().map(|(x, _)| (x * spp as f32) as u32).collect();
             strata.sort();
             assert_eq!(strata, (0..spp).collect::<Vec<_>>(), "spp {spp}");
-            // 2D: each row of the N-rooks pattern holds one sample.
+            // 2D, x: Kensler's pattern is an m x n jittered grid (m = floor(sqrt(spp)),
+            // n = ceil(spp / m)) whose x values also fall in distinct strata of width 1/(mn).
+            let m = (spp as f32).sqrt() as u32;
+            let n = spp.div_ceil(m);
+            let mut columns: Vec<u32> = s.iter().map(|(_, p)| (p.x * (m * n) as f32) as u32).collect();
+            columns.sort();
+            columns.dedup();
+            assert_eq!(columns.len(), spp as usize, "x strata, spp {spp}");
+            // 2D, y: each row of the N-rooks pattern holds one sample.
             let mut rows: Vec<u32> = s.iter().map(|(_, p)| (p.y * spp as f32) as u32).collect();
             rows.sort();
             assert_eq!(rows, (0..spp).collect::<Vec<_>>(), "spp {spp}");

@@ -24,17 +24,18 @@ fn random_mesh(rng: &mut Pcg32, triangles: usize) -> TriangleMesh {
     }
 }
 
-/// A random scene of `n` primitives of every kind; `coincident` repeats one sphere many times.
-fn random_scene(seed: u64, n: usize, coincident: bool, with_plane: bool) -> Arc<Geometry> {
+/// A random scene of `n` primitives of every kind; `coincident` repeats one sphere many
+/// times. Instanced meshes get their own accelerator of kind `inner`.
+fn random_scene(seed: u64, n: usize, coincident: bool, with_plane: bool, inner: AccelKind) -> Arc<Geometry> {
     let mut rng = Pcg32::new(seed, 0);
     let mut b = GeometryBuilder::new();
-    let shared = Arc::new(MeshAccel::new(Arc::new(random_mesh(&mut rng, 20)), AccelKind::Bvh));
+    let shared = Arc::new(MeshAccel::new(Arc::new(random_mesh(&mut rng, 20)), inner));
     for i in 0..n {
         let c = point(&mut rng, 10.0);
         let xf = Transform::rotate(point(&mut rng, 1.0), rng.next_f32() * 360.0).unwrap_or_default();
         match i % 6 {
             0 => {
-                b.add_shape(Shape::Sphere(Sphere::new(c, 0.1 + rng.next_f32(), &xf)));
+                b.add_shape(Shape::Sphere(Sphere::new(c, 0.1 + rng.next_f32(), &xf).unwrap()));
             }
             1 => {
                 if let Some(q) = Quad::new(c, point(&mut rng, 3.0), point(&mut rng, 3.0), &xf) {
@@ -64,7 +65,9 @@ fn random_scene(seed: u64, n: usize, coincident: bool, with_plane: bool) -> Arc<
     }
     if coincident {
         for _ in 0..100 {
-            b.add_shape(Shape::Sphere(Sphere::new(Vec3::ONE, 0.5, &Transform::IDENTITY)));
+            b.add_shape(Shape::Sphere(
+                Sphere::new(Vec3::ONE, 0.5, &Transform::IDENTITY).unwrap(),
+            ));
         }
     }
     if with_plane {
@@ -94,11 +97,11 @@ fn random_ray(rng: &mut Pcg32) -> Ray {
 }
 
 fn check_agreement(seed: u64, n: usize, coincident: bool, with_plane: bool) -> Result<(), TestCaseError> {
-    let geometry = random_scene(seed, n, coincident, with_plane);
-    let reference = geometry.accel(AccelKind::List);
+    // The reference is brute force all the way down, instances included.
+    let reference = random_scene(seed, n, coincident, with_plane, AccelKind::List).accel(AccelKind::List);
     let mut rng = Pcg32::new(seed, 1);
     for kind in [AccelKind::Bvh] {
-        let accel = geometry.accel(kind);
+        let accel = random_scene(seed, n, coincident, with_plane, kind).accel(kind);
         for _ in 0..300 {
             let ray = random_ray(&mut rng);
             let t_max = if rng.next_u32().is_multiple_of(4) {
@@ -141,6 +144,24 @@ proptest! {
     #[test]
     fn accelerators_agree_with_brute_force(seed in any::<u64>(), n in 0usize..120, coincident in any::<bool>(), plane in any::<bool>()) {
         check_agreement(seed, n, coincident, plane)?;
+    }
+}
+
+#[test]
+fn large_meshes_built_in_parallel_agree() {
+    // Enough triangles to cross the BVH's parallel-build threshold.
+    let mut rng = Pcg32::new(99, 0);
+    let mut b = GeometryBuilder::new();
+    b.add_mesh(random_mesh(&mut rng, 20_000));
+    let g = Arc::new(b.build());
+    let (reference, bvh) = (g.accel(AccelKind::List), g.accel(AccelKind::Bvh));
+    for _ in 0..300 {
+        let ray = random_ray(&mut rng);
+        let (a, b) = (
+            reference.intersect(&ray, f32::INFINITY),
+            bvh.intersect(&ray, f32::INFINITY),
+        );
+        assert_eq!(a.map(|h| h.t), b.map(|h| h.t), "{ray:?}");
     }
 }
 

@@ -23,7 +23,7 @@ impl Disk {
         let center = to_world.point(center);
         let axis1 = to_world.vector(frame.s * radius);
         let axis2 = to_world.vector(frame.t * radius);
-        let (n, w) = plane_frame(axis1, axis2)?;
+        let (n, w) = plane_frame(axis1, axis2, to_world.normal(frame.n))?;
         Some(Disk {
             center,
             axis1,

@@ -86,13 +86,15 @@ pub(crate) fn plane_hit(ray: &Ray, origin: Vec3, n: Vec3, t_max: f32) -> Option<
     (t > 0.0 && t < t_max).then_some(t)
 }
 
-/// The unit normal of the plane spanned by `e1`, `e2` and the vector `w` that
-/// [`plane_coordinates`] needs; `None` if the edges are parallel or zero.
+/// The unit normal of the plane spanned by the world-space edges `e1`, `e2`, on the side of
+/// `front` (the object-space front mapped by the normal transform, which a mirroring
+/// transform does not flip), and the vector `w` that [`plane_coordinates`] needs; `None` if
+/// the edges are parallel or zero.
 #[inline]
-pub(crate) fn plane_frame(e1: Vec3, e2: Vec3) -> Option<(Vec3, Vec3)> {
+pub(crate) fn plane_frame(e1: Vec3, e2: Vec3, front: Vec3) -> Option<(Vec3, Vec3)> {
     let cross = e1.cross(e2);
     let n = cross.try_normalize()?;
-    Some((n, cross / cross.length_squared()))
+    Some((if n.dot(front) < 0.0 { -n } else { n }, cross / cross.length_squared()))
 }
 
 /// Coordinates `(a, b)` of the point `q` in the plane spanned by edges `e1`, `e2` at

@@ -17,8 +17,9 @@ pub struct Quad {
 impl Quad {
     /// `None` if the edges are parallel or zero. The front (normal) is `edge1 x edge2`.
     pub fn new(corner: Vec3, edge1: Vec3, edge2: Vec3, to_world: &Transform) -> Option<Self> {
+        let front = to_world.normal(edge1.cross(edge2));
         let (corner, edge1, edge2) = (to_world.point(corner), to_world.vector(edge1), to_world.vector(edge2));
-        let (n, w) = plane_frame(edge1, edge2)?;
+        let (n, w) = plane_frame(edge1, edge2, front)?;
         Some(Quad {
             corner,
             edge1,
@@ -66,5 +67,8 @@ mod tests {
             .intersect(&Ray::new(Vec3::new(2.1, 0.5, 1.0), Vec3::NEG_Z), f32::INFINITY)
             .is_none());
         assert!(Quad::new(Vec3::ZERO, Vec3::X, Vec3::X * 2.0, &Transform::IDENTITY).is_none());
+        // A mirror keeps the front: a quad facing +z, mirrored in x, still faces +z.
+        let mirror = Transform::scale(Vec3::new(-1.0, 1.0, 1.0)).unwrap();
+        assert_eq!(Quad::new(Vec3::ZERO, Vec3::X, Vec3::Y, &mirror).unwrap().n, Vec3::Z);
     }
 }

@@ -16,15 +16,15 @@ pub struct Sphere {
 }
 
 impl Sphere {
-    /// A sphere of `radius` at `center`, then placed by `to_world`.
-    pub fn new(center: Vec3, radius: f32, to_world: &Transform) -> Self {
-        let local = Transform::scale(Vec3::splat(radius))
-            .unwrap_or_default()
+    /// A sphere of `radius` at `center`, then placed by `to_world`; `None` if the radius is
+    /// zero or too small or large to invert.
+    pub fn new(center: Vec3, radius: f32, to_world: &Transform) -> Option<Self> {
+        let local = Transform::scale(Vec3::splat(radius))?
             .then(Transform::translate(center))
             .then(*to_world);
-        Sphere {
+        Some(Sphere {
             placement: Placement::new(&local),
-        }
+        })
     }
 
     pub fn bounds(&self) -> Aabb {
@@ -78,7 +78,7 @@ mod tests {
     use super::*;
 
     fn unit() -> Sphere {
-        Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0, &Transform::IDENTITY)
+        Sphere::new(Vec3::new(0.0, 0.0, -5.0), 1.0, &Transform::IDENTITY).unwrap()
     }
 
     #[test]
@@ -119,7 +119,7 @@ mod tests {
         let (t, _) = s.intersect(&graze, f32::INFINITY).unwrap();
         assert!((t - 5.0).abs() < 2e-3);
         // A small sphere seen from far away: the naive quadratic loses it to cancellation.
-        let tiny = Sphere::new(Vec3::new(0.0, 0.0, -1e4), 1e-2, &Transform::IDENTITY);
+        let tiny = Sphere::new(Vec3::new(0.0, 0.0, -1e4), 1e-2, &Transform::IDENTITY).unwrap();
         let (t, _) = tiny
             .intersect(&Ray::new(Vec3::ZERO, Vec3::NEG_Z), f32::INFINITY)
             .unwrap();
@@ -127,9 +127,15 @@ mod tests {
     }
 
     #[test]
+    fn degenerate_radius_is_refused() {
+        assert!(Sphere::new(Vec3::ZERO, 0.0, &Transform::IDENTITY).is_none());
+        assert!(Sphere::new(Vec3::ZERO, 1e-40, &Transform::IDENTITY).is_none());
+    }
+
+    #[test]
     fn ellipsoid_normal() {
         let squash = Transform::scale(Vec3::new(2.0, 1.0, 1.0)).unwrap();
-        let s = Sphere::new(Vec3::ZERO, 1.0, &squash);
+        let s = Sphere::new(Vec3::ZERO, 1.0, &squash).unwrap();
         let ray = Ray::new(Vec3::new(5.0, 0.0, 0.0), Vec3::NEG_X);
         let hit = s.intersect(&ray, f32::INFINITY).unwrap();
         assert!((hit.0 - 3.0).abs() < 1e-5);

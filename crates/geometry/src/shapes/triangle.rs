@@ -71,9 +71,10 @@ pub fn intersect_triangle_prepared(r: &TriangleRay, p: [Vec3; 3], t_max: f32) ->
     }
     // Inside when every edge function has the sign of det; a zero edge function (the ray
     // meets the edge's line) counts for one of the two triangles sharing that edge only.
+    // The tie-break follows the triangle's facing, so it holds for either winding.
     let inside = |e: f32, a: Vec3, b: Vec3| {
         if e == 0.0 {
-            top_left(a, b)
+            top_left(a, b) != (det < 0.0)
         } else {
             (e > 0.0) == (det > 0.0)
         }
@@ -107,8 +108,9 @@ mod tests {
     use super::*;
     use penumbra_core::Pcg32;
 
-    /// How many of the two triangles splitting the unit square along its diagonal `ray` hits.
-    fn square_hits(ray: &Ray) -> usize {
+    /// How many of the two triangles splitting the unit square along its diagonal `ray` hits,
+    /// for both windings of the second triangle (as in meshes with inconsistent winding).
+    fn square_hits(ray: &Ray) -> [usize; 2] {
         let a = [
             Vec3::new(0.0, 0.0, 0.0),
             Vec3::new(1.0, 0.0, 0.0),
@@ -119,10 +121,13 @@ mod tests {
             Vec3::new(1.0, 1.0, 0.0),
             Vec3::new(0.0, 1.0, 0.0),
         ];
-        [a, b]
-            .iter()
-            .filter(|&&tri| intersect_triangle(ray, tri, f32::INFINITY).is_some())
-            .count()
+        let b_reversed = [b[0], b[2], b[1]];
+        let count = |tris: [[Vec3; 3]; 2]| {
+            tris.iter()
+                .filter(|&&t| intersect_triangle(ray, t, f32::INFINITY).is_some())
+                .count()
+        };
+        [count([a, b]), count([a, b_reversed])]
     }
 
     const TRI: [Vec3; 3] = [
@@ -154,7 +159,7 @@ mod tests {
             (Vec3::new(0.5, 0.5, -1.0), Vec3::Z),
             (Vec3::new(0.25, 0.25, 2.0), Vec3::new(0.25, 0.25, -2.0)),
         ] {
-            assert_eq!(square_hits(&Ray::new(origin, dir)), 1, "{origin} {dir}");
+            assert_eq!(square_hits(&Ray::new(origin, dir)), [1, 1], "{origin} {dir}");
         }
     }
 
@@ -184,7 +189,7 @@ mod tests {
             );
             let ray = Ray::new(origin, target - origin);
             let hits = square_hits(&ray);
-            assert_eq!(hits, 1, "ray through the shared edge at {target}");
+            assert_eq!(hits, [1, 1], "ray through the shared edge at {target}");
         }
     }
 }

@@ -36,6 +36,10 @@ pub trait Integrator: Send + Sync {
     fn li(&self, scene: &Scene, ray: &Ray, sampler: &mut PixelSampler, counts: &mut RayCounts) -> Rgb;
 }
 
+/// The largest `max_depth` a scene may ask for: recursion deeper than this could exhaust a
+/// worker thread's stack.
+pub const MAX_DEPTH_LIMIT: u32 = 256;
+
 /// Settings shared by the integrators.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct IntegratorOptions {

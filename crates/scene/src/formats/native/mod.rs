@@ -14,7 +14,7 @@ use glam::Vec3;
 use penumbra_core::{Rgb, SamplerKind};
 use penumbra_geometry::AccelKind;
 use penumbra_render::cameras::FovAxis;
-use penumbra_render::integrators::IntegratorKind;
+use penumbra_render::integrators::{IntegratorKind, MAX_DEPTH_LIMIT};
 use penumbra_render::Filter;
 use std::sync::Arc;
 
@@ -64,6 +64,8 @@ pub(crate) fn choice<T>(v: &Value, what: &str, names: &[&str], parse: impl Fn(&s
 
 /// The largest image side, here and on the command line.
 pub const MAX_RESOLUTION: i64 = 65536;
+/// The largest number of pixels, here and on the command line (2^28, about 16k x 16k).
+pub const MAX_PIXELS: u64 = 1 << 28;
 
 fn read_render(t: &Table) -> Result<RenderDesc> {
     let d = RenderDesc::default();
@@ -86,13 +88,26 @@ fn read_render(t: &Table) -> Result<RenderDesc> {
     if min_weight < 0.0 {
         return Err(t.require("min_weight")?.error("`min_weight` must not be negative"));
     }
+    let (width, height) = (
+        int("width", 1..=MAX_RESOLUTION, d.width as u64)?,
+        int("height", 1..=MAX_RESOLUTION, d.height as u64)?,
+    );
+    if width * height > MAX_PIXELS {
+        let at = t
+            .get("height")
+            .or_else(|| t.get("width"))
+            .map_or_else(|| t.location(), |v| v.location());
+        return Err(
+            crate::SceneError::at(at, format!("{width}x{height} is more than {MAX_PIXELS} pixels")).label("too large"),
+        );
+    }
     Ok(RenderDesc {
-        width: int("width", 1..=MAX_RESOLUTION, d.width as u64)? as u32,
-        height: int("height", 1..=MAX_RESOLUTION, d.height as u64)? as u32,
+        width: width as u32,
+        height: height as u32,
         spp: int("spp", 1..=u32::MAX as i64, d.spp as u64)? as u32,
         seed: int("seed", 0..=i64::MAX, d.seed)?,
         integrator,
-        max_depth: t.u32_or("max_depth", d.max_depth)?,
+        max_depth: int("max_depth", 0..=MAX_DEPTH_LIMIT as i64, d.max_depth as u64)? as u32,
         min_weight,
         sampler,
         filter: match t.table("filter")? {
