@@ -242,3 +242,37 @@ fn help_documents_every_flag() {
         assert!(help.contains(flag), "{flag} missing from --help");
     }
 }
+
+#[test]
+fn every_accelerator_renders_the_same_image() {
+    let dir = tempfile::tempdir().unwrap();
+    for scene in ["whitted", "cornell", "refraction"] {
+        let path = repo().join("scenes").join(format!("{scene}.toml"));
+        let images: Vec<Vec<u8>> = ["list", "bvh", "grid"]
+            .iter()
+            .map(|accel| {
+                let out = format!("{scene}-{accel}.pfm");
+                let o = penumbra(
+                    dir.path(),
+                    &[
+                        "render",
+                        path.to_str().unwrap(),
+                        "-o",
+                        &out,
+                        "--res",
+                        "48x32",
+                        "--accel",
+                        accel,
+                        "-q",
+                    ],
+                );
+                assert!(o.status.success(), "{}", text(&o.stderr));
+                std::fs::read(dir.path().join(out)).unwrap()
+            })
+            .collect();
+        assert!(
+            images.windows(2).all(|w| w[0] == w[1]),
+            "{scene}: accelerators disagree"
+        );
+    }
+}

@@ -55,6 +55,11 @@ impl Aabb {
         self.min.cmpgt(self.max).any()
     }
 
+    /// Whether the boxes share a point (touching counts).
+    pub fn overlaps(&self, o: &Aabb) -> bool {
+        self.min.cmple(o.max).all() && o.min.cmple(self.max).all()
+    }
+
     pub fn is_finite(&self) -> bool {
         self.min.is_finite() && self.max.is_finite()
     }

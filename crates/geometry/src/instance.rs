@@ -3,6 +3,7 @@
 
 use crate::accel::{build_accel, Accel, AccelKind, PrimitiveSet};
 use crate::shapes::triangle::{intersect_triangle_prepared, TriangleRay};
+use crate::shapes::triangle_box::triangle_overlaps_box;
 use crate::{Hit, Placement, TriangleMesh};
 use glam::{Vec2, Vec3};
 use penumbra_core::{Aabb, Ray, Transform};
@@ -38,6 +39,9 @@ impl PrimitiveSet for MeshTriangles {
     }
     fn bounds(&self, i: u32) -> Aabb {
         Aabb::from_points(self.triangles[i as usize])
+    }
+    fn overlaps(&self, i: u32, b: &Aabb) -> bool {
+        triangle_overlaps_box(self.triangles[i as usize], b)
     }
     #[inline]
     fn intersect(&self, i: u32, _ray: &Ray, data: &TriangleRay, t_max: f32) -> Option<Hit> {

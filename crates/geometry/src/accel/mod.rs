@@ -10,9 +10,12 @@
 //! variant in [`AccelKind`] and one arm in [`build_accel`].
 
 mod bvh;
+mod grid;
 mod list;
+mod mailbox;
 
 pub use bvh::Bvh;
+pub use grid::Grid;
 pub use list::{closest_of, List};
 
 use crate::Hit;
@@ -81,6 +84,11 @@ pub trait PrimitiveSet: Send + Sync + 'static {
     fn occluded(&self, i: u32, ray: &Ray, data: &Self::RayData, t_max: f32) -> bool {
         self.intersect(i, ray, data, t_max).is_some()
     }
+    /// Whether primitive `i` may overlap box `b`: exact for triangles, by bounding box for
+    /// the rest (spatial subdivisions store a primitive in each cell it overlaps).
+    fn overlaps(&self, i: u32, b: &Aabb) -> bool {
+        self.bounds(i).overlaps(b)
+    }
 }
 
 /// The accelerators a scene can choose.
@@ -91,15 +99,20 @@ pub enum AccelKind {
     /// Bounding volume hierarchy, binned SAH build.
     #[default]
     Bvh,
+    /// Regular grid with 3D-DDA traversal and mailboxing.
+    Grid,
 }
 
 impl AccelKind {
-    pub const NAMES: [&'static str; 2] = ["list", "bvh"];
+    pub const NAMES: [&'static str; 3] = ["list", "bvh", "grid"];
+    /// Every accelerator, in the order of [`AccelKind::NAMES`].
+    pub const ALL: [AccelKind; 3] = [AccelKind::List, AccelKind::Bvh, AccelKind::Grid];
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "list" => Some(AccelKind::List),
             "bvh" => Some(AccelKind::Bvh),
+            "grid" => Some(AccelKind::Grid),
             _ => None,
         }
     }
@@ -108,6 +121,7 @@ impl AccelKind {
         match self {
             AccelKind::List => "list",
             AccelKind::Bvh => "bvh",
+            AccelKind::Grid => "grid",
         }
     }
 }
@@ -136,6 +150,7 @@ fn build_bounded<P: PrimitiveSet>(kind: AccelKind, prims: Arc<P>) -> Box<dyn Acc
     match kind {
         AccelKind::List => Box::new(List::new(prims)),
         AccelKind::Bvh => Box::new(Bvh::new(prims)),
+        AccelKind::Grid => Box::new(Grid::new(prims, grid::DEFAULT_LAMBDA)),
     }
 }
 
@@ -161,6 +176,9 @@ impl<P: PrimitiveSet> PrimitiveSet for Subset<P> {
     }
     fn occluded(&self, i: u32, ray: &Ray, data: &P::RayData, t_max: f32) -> bool {
         self.prims.occluded(self.ids[i as usize], ray, data, t_max)
+    }
+    fn overlaps(&self, i: u32, b: &Aabb) -> bool {
+        self.prims.overlaps(self.ids[i as usize], b)
     }
 }
 

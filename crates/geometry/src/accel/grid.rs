@@ -1,0 +1,234 @@
+//! The regular grid (Fujimoto et al. 1986): voxels of equal size over the scene's bounds,
+//! each listing the primitives that really overlap it (exact triangle-box tests for
+//! triangles), traversed cell by cell along the ray with the 3D-DDA of Amanatides and Woo,
+//! "A Fast Voxel Traversal Algorithm for Ray Tracing" (1987). With mailboxing a primitive
+//! spanning many cells is tested once per ray, and the walk stops at the first cell whose
+//! exit lies beyond the closest hit found so far.
+//!
+//! Resolution: about `lambda * N` cells in all, shaped like the bounds (cell side
+//! `(V / (lambda N))^(1/3)`), at most 512 per axis; `lambda` defaults to 4.
+
+use super::mailbox::with_mailbox;
+use super::{Accel, Counter, PrimitiveSet, TraversalStats};
+use crate::Hit;
+use glam::{UVec3, Vec3};
+use penumbra_core::{Aabb, Ray};
+use rayon::prelude::*;
+use std::sync::Arc;
+
+/// Cells per primitive the grid aims for.
+pub const DEFAULT_LAMBDA: f32 = 4.0;
+const MAX_RESOLUTION: u32 = 512;
+
+pub struct Grid<P> {
+    prims: Arc<P>,
+    bounds: Aabb,
+    res: UVec3,
+    cell_size: Vec3,
+    /// `starts[c]..starts[c + 1]` indexes the primitives of cell `c` in `items`.
+    starts: Vec<u32>,
+    items: Vec<u32>,
+}
+
+/// The grid shape for `n` primitives in `bounds`: resolution and padded bounds.
+pub(crate) fn grid_shape(bounds: Aabb, n: usize, lambda: f32) -> (UVec3, Aabb) {
+    // Give flat axes some thickness so every cell has volume.
+    let pad = (bounds.extent().max_element() * 1e-3).max(1e-3);
+    let grow = Vec3::select(bounds.extent().cmple(Vec3::splat(pad)), Vec3::splat(pad), Vec3::ZERO);
+    let bounds = Aabb {
+        min: bounds.min - grow,
+        max: bounds.max + grow,
+    };
+    let e = bounds.extent();
+    let side = (e.x * e.y * e.z / (lambda * n.max(1) as f32)).cbrt();
+    let res = (e / side)
+        .ceil()
+        .clamp(Vec3::ONE, Vec3::splat(MAX_RESOLUTION as f32))
+        .as_uvec3();
+    (res, bounds)
+}
+
+impl<P: PrimitiveSet> Grid<P> {
+    pub fn new(prims: Arc<P>, lambda: f32) -> Self {
+        let n = prims.len();
+        let scene = (0..n as u32).fold(Aabb::EMPTY, |b, i| b.union(prims.bounds(i)));
+        if n == 0 || scene.is_empty() {
+            return Grid {
+                prims,
+                bounds: Aabb::EMPTY,
+                res: UVec3::ONE,
+                cell_size: Vec3::ONE,
+                starts: vec![0, 0],
+                items: Vec::new(),
+            };
+        }
+        let (res, bounds) = grid_shape(scene, n, lambda);
+        let cell_size = bounds.extent() / res.as_vec3();
+        let mut grid = Grid {
+            prims,
+            bounds,
+            res,
+            cell_size,
+            starts: Vec::new(),
+            items: Vec::new(),
+        };
+        // Every (cell, primitive) pair that overlaps, found in parallel, then bucketed by cell.
+        let pairs: Vec<(u32, u32)> = (0..n as u32)
+            .into_par_iter()
+            .flat_map_iter(|i| {
+                let b = grid.prims.bounds(i);
+                let (lo, hi) = (grid.cell_of(b.min), grid.cell_of(b.max));
+                let mut out = Vec::new();
+                for z in lo.z..=hi.z {
+                    for y in lo.y..=hi.y {
+                        for x in lo.x..=hi.x {
+                            let cell = UVec3::new(x, y, z);
+                            if grid.prims.overlaps(i, &grid.cell_bounds(cell)) {
+                                out.push((grid.index(cell), i));
+                            }
+                        }
+                    }
+                }
+                out
+            })
+            .collect();
+        let cells = (res.x * res.y * res.z) as usize;
+        let mut starts = vec![0u32; cells + 1];
+        pairs.iter().for_each(|&(c, _)| starts[c as usize + 1] += 1);
+        for c in 0..cells {
+            starts[c + 1] += starts[c];
+        }
+        let mut fill = starts.clone();
+        let mut items = vec![0u32; pairs.len()];
+        for &(c, i) in &pairs {
+            items[fill[c as usize] as usize] = i;
+            fill[c as usize] += 1;
+        }
+        grid.starts = starts;
+        grid.items = items;
+        grid
+    }
+
+    fn cell_of(&self, p: Vec3) -> UVec3 {
+        let rel = ((p - self.bounds.min) / self.cell_size).floor();
+        rel.clamp(Vec3::ZERO, (self.res - UVec3::ONE).as_vec3()).as_uvec3()
+    }
+
+    fn cell_bounds(&self, c: UVec3) -> Aabb {
+        let min = self.bounds.min + c.as_vec3() * self.cell_size;
+        Aabb {
+            min,
+            max: min + self.cell_size,
+        }
+    }
+
+    fn index(&self, c: UVec3) -> u32 {
+        (c.z * self.res.y + c.y) * self.res.x + c.x
+    }
+
+    fn cell_items(&self, c: UVec3) -> &[u32] {
+        let i = self.index(c) as usize;
+        &self.items[self.starts[i] as usize..self.starts[i + 1] as usize]
+    }
+
+    /// Walks the cells along `ray` in order. `visit(items, t_exit)` returns whether to stop.
+    #[inline]
+    fn walk<C: Counter>(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        stats: &mut C,
+        mut visit: impl FnMut(&[u32], f32, &mut C) -> bool,
+    ) {
+        if self.items.is_empty() {
+            return;
+        }
+        let inv = ray.dir.recip();
+        let Some(t_enter) = self.bounds.hit(ray, inv, t_max) else {
+            return;
+        };
+        let mut cell = self.cell_of(ray.at(t_enter));
+        let step = ray.dir.signum().as_ivec3();
+        // Distance to the next cell boundary along each axis, and between boundaries.
+        let mut t_next = Vec3::ZERO;
+        let mut t_delta = Vec3::ZERO;
+        for a in 0..3 {
+            if ray.dir[a] == 0.0 {
+                t_next[a] = f32::INFINITY;
+                t_delta[a] = f32::INFINITY;
+            } else {
+                let boundary = cell[a] + (ray.dir[a] > 0.0) as u32;
+                let plane = self.bounds.min[a] + boundary as f32 * self.cell_size[a];
+                t_next[a] = (plane - ray.origin[a]) * inv[a];
+                t_delta[a] = self.cell_size[a] * inv[a].abs();
+            }
+        }
+        loop {
+            stats.node();
+            let axis = t_next.min_position();
+            let t_exit = t_next[axis];
+            if visit(self.cell_items(cell), t_exit, stats) || t_exit > t_max {
+                return;
+            }
+            let next = cell[axis] as i32 + step[axis];
+            if next < 0 || next >= self.res[axis] as i32 {
+                return;
+            }
+            cell[axis] = next as u32;
+            t_next[axis] += t_delta[axis];
+        }
+    }
+
+    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+        let data = self.prims.prepare(ray);
+        with_mailbox(self.prims.len(), |mailbox| {
+            let mut best: Option<Hit> = None;
+            self.walk(ray, t_max, stats, |items, t_exit, stats| {
+                for &i in items {
+                    if mailbox.first_visit(i) {
+                        stats.prims(1);
+                        let limit = best.map_or(t_max, |h| h.t);
+                        if let Some(hit) = self.prims.intersect(i, ray, &data, limit) {
+                            best = Some(hit);
+                        }
+                    }
+                }
+                // A hit counts once the walk has passed it: nothing nearer can remain.
+                best.is_some_and(|h| h.t <= t_exit)
+            });
+            best
+        })
+    }
+}
+
+impl<P: PrimitiveSet> Accel for Grid<P> {
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        self.closest(ray, t_max, &mut ())
+    }
+
+    fn intersect_counted(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit> {
+        self.closest(ray, t_max, stats)
+    }
+
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        let data = self.prims.prepare(ray);
+        with_mailbox(self.prims.len(), |mailbox| {
+            let mut hit = false;
+            self.walk(ray, t_max, &mut (), |items, _, _| {
+                hit = items
+                    .iter()
+                    .any(|&i| mailbox.first_visit(i) && self.prims.occluded(i, ray, &data, t_max));
+                hit
+            });
+            hit
+        })
+    }
+
+    fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    fn memory_bytes(&self) -> usize {
+        std::mem::size_of::<Self>() + 4 * (self.starts.capacity() + self.items.capacity())
+    }
+}
