@@ -67,7 +67,7 @@ pub struct RenderArgs {
     /// Image resolution, WIDTHxHEIGHT (e.g. 1280x720).
     #[arg(long, value_parser = parse_resolution, value_name = "WxH")]
     pub res: Option<(u32, u32)>,
-    /// Acceleration structure: list, bvh.
+    /// Acceleration structure: bvh (default), grid, nested-grid, list.
     #[arg(long)]
     pub accel: Option<String>,
     /// Sampler: independent, stratified.

@@ -22,12 +22,32 @@ const MAX_RESOLUTION: u32 = 512;
 
 pub struct Grid<P> {
     prims: Arc<P>,
+    root: Level,
+}
+
+/// One level of a (possibly nested) grid.
+struct Level {
     bounds: Aabb,
     res: UVec3,
     cell_size: Vec3,
     /// `starts[c]..starts[c + 1]` indexes the primitives of cell `c` in `items`.
     starts: Vec<u32>,
     items: Vec<u32>,
+    /// For a nested grid: per cell, the index of its sub-grid in `children` or `NO_CHILD`.
+    child: Vec<u32>,
+    children: Vec<Level>,
+}
+
+const NO_CHILD: u32 = u32::MAX;
+
+/// How a grid subdivides.
+#[derive(Clone, Copy, Debug)]
+pub struct GridParams {
+    pub lambda: f32,
+    /// Cells holding more primitives than this get a sub-grid...
+    pub max_items: usize,
+    /// ...down to this many levels below the top (0: a regular grid).
+    pub max_depth: u32,
 }
 
 /// The grid shape for `n` primitives in `bounds`: resolution and padded bounds.
@@ -49,42 +69,103 @@ pub(crate) fn grid_shape(bounds: Aabb, n: usize, lambda: f32) -> (UVec3, Aabb) {
 }
 
 impl<P: PrimitiveSet> Grid<P> {
+    /// A regular grid.
     pub fn new(prims: Arc<P>, lambda: f32) -> Self {
+        Self::with_params(
+            prims,
+            GridParams {
+                lambda,
+                max_items: usize::MAX,
+                max_depth: 0,
+            },
+        )
+    }
+
+    pub fn with_params(prims: Arc<P>, params: GridParams) -> Self {
         let n = prims.len();
         let scene = (0..n as u32).fold(Aabb::EMPTY, |b, i| b.union(prims.bounds(i)));
         if n == 0 || scene.is_empty() {
-            return Grid {
-                prims,
+            let root = Level {
                 bounds: Aabb::EMPTY,
                 res: UVec3::ONE,
                 cell_size: Vec3::ONE,
                 starts: vec![0, 0],
                 items: Vec::new(),
+                child: Vec::new(),
+                children: Vec::new(),
             };
+            return Grid { prims, root };
         }
-        let (res, bounds) = grid_shape(scene, n, lambda);
+        let (res, bounds) = grid_shape(scene, n, params.lambda);
+        let ids: Vec<u32> = (0..n as u32).collect();
+        let root = Level::build(prims.as_ref(), &ids, bounds, res, params, 0);
+        Grid { prims, root }
+    }
+
+    /// Number of grids, the top one and every sub-grid.
+    pub fn grid_count(&self) -> usize {
+        fn count(l: &Level) -> usize {
+            1 + l.children.iter().map(count).sum::<usize>()
+        }
+        count(&self.root)
+    }
+
+    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+        let data = self.prims.prepare(ray);
+        with_mailbox(self.prims.len(), |mailbox| {
+            let mut best: Option<Hit> = None;
+            self.root.walk(ray, t_max, stats, &mut |items, t_exit, stats| {
+                for &i in items {
+                    if mailbox.first_visit(i) {
+                        stats.prims(1);
+                        let limit = best.map_or(t_max, |h| h.t);
+                        if let Some(hit) = self.prims.intersect(i, ray, &data, limit) {
+                            best = Some(hit);
+                        }
+                    }
+                }
+                // A hit counts once the walk has passed it: nothing nearer can remain.
+                best.is_some_and(|h| h.t <= t_exit)
+            });
+            best
+        })
+    }
+}
+
+impl Level {
+    /// Buckets primitives `ids` into a `res` grid over `bounds`, giving crowded cells
+    /// sub-grids while `depth < params.max_depth`.
+    fn build<P: PrimitiveSet>(
+        prims: &P,
+        ids: &[u32],
+        bounds: Aabb,
+        res: UVec3,
+        params: GridParams,
+        depth: u32,
+    ) -> Level {
         let cell_size = bounds.extent() / res.as_vec3();
-        let mut grid = Grid {
-            prims,
+        let mut level = Level {
             bounds,
             res,
             cell_size,
             starts: Vec::new(),
             items: Vec::new(),
+            child: Vec::new(),
+            children: Vec::new(),
         };
         // Every (cell, primitive) pair that overlaps, found in parallel, then bucketed by cell.
-        let pairs: Vec<(u32, u32)> = (0..n as u32)
-            .into_par_iter()
-            .flat_map_iter(|i| {
-                let b = grid.prims.bounds(i);
-                let (lo, hi) = (grid.cell_of(b.min), grid.cell_of(b.max));
+        let pairs: Vec<(u32, u32)> = ids
+            .par_iter()
+            .flat_map_iter(|&i| {
+                let b = prims.bounds(i);
+                let (lo, hi) = (level.cell_of(b.min), level.cell_of(b.max));
                 let mut out = Vec::new();
                 for z in lo.z..=hi.z {
                     for y in lo.y..=hi.y {
                         for x in lo.x..=hi.x {
                             let cell = UVec3::new(x, y, z);
-                            if grid.prims.overlaps(i, &grid.cell_bounds(cell)) {
-                                out.push((grid.index(cell), i));
+                            if prims.overlaps(i, &level.cell_bounds(cell)) {
+                                out.push((level.index(cell), i));
                             }
                         }
                     }
@@ -93,20 +174,36 @@ impl<P: PrimitiveSet> Grid<P> {
             })
             .collect();
         let cells = (res.x * res.y * res.z) as usize;
-        let mut starts = vec![0u32; cells + 1];
-        pairs.iter().for_each(|&(c, _)| starts[c as usize + 1] += 1);
-        for c in 0..cells {
-            starts[c + 1] += starts[c];
-        }
-        let mut fill = starts.clone();
-        let mut items = vec![0u32; pairs.len()];
+        let mut counts = vec![0u32; cells];
+        pairs.iter().for_each(|&(c, _)| counts[c as usize] += 1);
+        let mut bucket: Vec<Vec<u32>> = vec![Vec::new(); cells];
         for &(c, i) in &pairs {
-            items[fill[c as usize] as usize] = i;
-            fill[c as usize] += 1;
+            bucket[c as usize].push(i);
         }
-        grid.starts = starts;
-        grid.items = items;
-        grid
+        // Crowded cells become sub-grids; the rest keep their primitives.
+        let nest = depth < params.max_depth;
+        if nest {
+            level.child = vec![NO_CHILD; cells];
+        }
+        let mut starts = vec![0u32; cells + 1];
+        let mut items = Vec::with_capacity(pairs.len());
+        for (c, ids) in bucket.iter().enumerate() {
+            if nest && ids.len() > params.max_items {
+                let cell = UVec3::new(c as u32 % res.x, (c as u32 / res.x) % res.y, c as u32 / (res.x * res.y));
+                let cb = level.cell_bounds(cell);
+                let sub_res = grid_shape(cb, ids.len(), params.lambda).0;
+                level.child[c] = level.children.len() as u32;
+                level
+                    .children
+                    .push(Level::build(prims, ids, cb, sub_res, params, depth + 1));
+            } else {
+                items.extend_from_slice(ids);
+            }
+            starts[c + 1] = items.len() as u32;
+        }
+        level.starts = starts;
+        level.items = items;
+        level
     }
 
     fn cell_of(&self, p: Vec3) -> UVec3 {
@@ -126,26 +223,21 @@ impl<P: PrimitiveSet> Grid<P> {
         (c.z * self.res.y + c.y) * self.res.x + c.x
     }
 
-    fn cell_items(&self, c: UVec3) -> &[u32] {
-        let i = self.index(c) as usize;
-        &self.items[self.starts[i] as usize..self.starts[i + 1] as usize]
-    }
-
-    /// Walks the cells along `ray` in order. `visit(items, t_exit)` returns whether to stop.
-    #[inline]
+    /// Walks the cells along `ray` in order, descending into sub-grids.
+    /// `visit(items, t_exit)` returns whether to stop; so does `walk`.
     fn walk<C: Counter>(
         &self,
         ray: &Ray,
         t_max: f32,
         stats: &mut C,
-        mut visit: impl FnMut(&[u32], f32, &mut C) -> bool,
-    ) {
-        if self.items.is_empty() {
-            return;
+        visit: &mut dyn FnMut(&[u32], f32, &mut C) -> bool,
+    ) -> bool {
+        if self.starts.len() < 2 || self.bounds.is_empty() {
+            return false;
         }
         let inv = ray.dir.recip();
         let Some(t_enter) = self.bounds.hit(ray, inv, t_max) else {
-            return;
+            return false;
         };
         let mut cell = self.cell_of(ray.at(t_enter));
         let step = ray.dir.signum().as_ivec3();
@@ -167,37 +259,33 @@ impl<P: PrimitiveSet> Grid<P> {
             stats.node();
             let axis = t_next.min_position();
             let t_exit = t_next[axis];
-            if visit(self.cell_items(cell), t_exit, stats) || t_exit > t_max {
-                return;
+            let c = self.index(cell) as usize;
+            let sub = self.child.get(c).copied().unwrap_or(NO_CHILD);
+            let stop = if sub == NO_CHILD {
+                visit(
+                    &self.items[self.starts[c] as usize..self.starts[c + 1] as usize],
+                    t_exit,
+                    stats,
+                )
+            } else {
+                self.children[sub as usize].walk(ray, t_max, stats, visit)
+            };
+            if stop || t_exit > t_max {
+                return stop;
             }
             let next = cell[axis] as i32 + step[axis];
             if next < 0 || next >= self.res[axis] as i32 {
-                return;
+                return false;
             }
             cell[axis] = next as u32;
             t_next[axis] += t_delta[axis];
         }
     }
 
-    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
-        let data = self.prims.prepare(ray);
-        with_mailbox(self.prims.len(), |mailbox| {
-            let mut best: Option<Hit> = None;
-            self.walk(ray, t_max, stats, |items, t_exit, stats| {
-                for &i in items {
-                    if mailbox.first_visit(i) {
-                        stats.prims(1);
-                        let limit = best.map_or(t_max, |h| h.t);
-                        if let Some(hit) = self.prims.intersect(i, ray, &data, limit) {
-                            best = Some(hit);
-                        }
-                    }
-                }
-                // A hit counts once the walk has passed it: nothing nearer can remain.
-                best.is_some_and(|h| h.t <= t_exit)
-            });
-            best
-        })
+    fn memory_bytes(&self) -> usize {
+        std::mem::size_of::<Self>()
+            + 4 * (self.starts.capacity() + self.items.capacity() + self.child.capacity())
+            + self.children.iter().map(Level::memory_bytes).sum::<usize>()
     }
 }
 
@@ -213,22 +301,19 @@ impl<P: PrimitiveSet> Accel for Grid<P> {
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let data = self.prims.prepare(ray);
         with_mailbox(self.prims.len(), |mailbox| {
-            let mut hit = false;
-            self.walk(ray, t_max, &mut (), |items, _, _| {
-                hit = items
+            self.root.walk(ray, t_max, &mut (), &mut |items, _, _| {
+                items
                     .iter()
-                    .any(|&i| mailbox.first_visit(i) && self.prims.occluded(i, ray, &data, t_max));
-                hit
-            });
-            hit
+                    .any(|&i| mailbox.first_visit(i) && self.prims.occluded(i, ray, &data, t_max))
+            })
         })
     }
 
     fn bounds(&self) -> Aabb {
-        self.bounds
+        self.root.bounds
     }
 
     fn memory_bytes(&self) -> usize {
-        std::mem::size_of::<Self>() + 4 * (self.starts.capacity() + self.items.capacity())
+        std::mem::size_of::<Self>() + self.root.memory_bytes()
     }
 }

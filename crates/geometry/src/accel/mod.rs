@@ -13,9 +13,10 @@ mod bvh;
 mod grid;
 mod list;
 mod mailbox;
+mod nested_grid;
 
 pub use bvh::Bvh;
-pub use grid::Grid;
+pub use grid::{Grid, GridParams};
 pub use list::{closest_of, List};
 
 use crate::Hit;
@@ -101,18 +102,21 @@ pub enum AccelKind {
     Bvh,
     /// Regular grid with 3D-DDA traversal and mailboxing.
     Grid,
+    /// Adaptive grid: crowded cells hold sub-grids.
+    NestedGrid,
 }
 
 impl AccelKind {
-    pub const NAMES: [&'static str; 3] = ["list", "bvh", "grid"];
+    pub const NAMES: [&'static str; 4] = ["list", "bvh", "grid", "nested-grid"];
     /// Every accelerator, in the order of [`AccelKind::NAMES`].
-    pub const ALL: [AccelKind; 3] = [AccelKind::List, AccelKind::Bvh, AccelKind::Grid];
+    pub const ALL: [AccelKind; 4] = [AccelKind::List, AccelKind::Bvh, AccelKind::Grid, AccelKind::NestedGrid];
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "list" => Some(AccelKind::List),
             "bvh" => Some(AccelKind::Bvh),
             "grid" => Some(AccelKind::Grid),
+            "nested-grid" => Some(AccelKind::NestedGrid),
             _ => None,
         }
     }
@@ -122,6 +126,7 @@ impl AccelKind {
             AccelKind::List => "list",
             AccelKind::Bvh => "bvh",
             AccelKind::Grid => "grid",
+            AccelKind::NestedGrid => "nested-grid",
         }
     }
 }
@@ -151,6 +156,7 @@ fn build_bounded<P: PrimitiveSet>(kind: AccelKind, prims: Arc<P>) -> Box<dyn Acc
         AccelKind::List => Box::new(List::new(prims)),
         AccelKind::Bvh => Box::new(Bvh::new(prims)),
         AccelKind::Grid => Box::new(Grid::new(prims, grid::DEFAULT_LAMBDA)),
+        AccelKind::NestedGrid => Box::new(nested_grid::build(prims)),
     }
 }
 
