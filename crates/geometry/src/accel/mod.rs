@@ -14,10 +14,12 @@ mod grid;
 mod list;
 mod mailbox;
 mod nested_grid;
+mod octree;
 
 pub use bvh::Bvh;
 pub use grid::{Grid, GridParams};
 pub use list::{closest_of, List};
+pub use octree::{Octree, Policy as OctreePolicy};
 
 use crate::Hit;
 use penumbra_core::{Aabb, Ray};
@@ -104,12 +106,23 @@ pub enum AccelKind {
     Grid,
     /// Adaptive grid: crowded cells hold sub-grids.
     NestedGrid,
+    /// Octree, primitives pushed down to every leaf they overlap.
+    Octree,
+    /// Octree, primitives that straddle a split kept at the intermediate node.
+    OctreeKeep,
 }
 
 impl AccelKind {
-    pub const NAMES: [&'static str; 4] = ["list", "bvh", "grid", "nested-grid"];
+    pub const NAMES: [&'static str; 6] = ["list", "bvh", "grid", "nested-grid", "octree", "octree-keep"];
     /// Every accelerator, in the order of [`AccelKind::NAMES`].
-    pub const ALL: [AccelKind; 4] = [AccelKind::List, AccelKind::Bvh, AccelKind::Grid, AccelKind::NestedGrid];
+    pub const ALL: [AccelKind; 6] = [
+        AccelKind::List,
+        AccelKind::Bvh,
+        AccelKind::Grid,
+        AccelKind::NestedGrid,
+        AccelKind::Octree,
+        AccelKind::OctreeKeep,
+    ];
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
@@ -117,6 +130,8 @@ impl AccelKind {
             "bvh" => Some(AccelKind::Bvh),
             "grid" => Some(AccelKind::Grid),
             "nested-grid" => Some(AccelKind::NestedGrid),
+            "octree" => Some(AccelKind::Octree),
+            "octree-keep" => Some(AccelKind::OctreeKeep),
             _ => None,
         }
     }
@@ -127,6 +142,8 @@ impl AccelKind {
             AccelKind::Bvh => "bvh",
             AccelKind::Grid => "grid",
             AccelKind::NestedGrid => "nested-grid",
+            AccelKind::Octree => "octree",
+            AccelKind::OctreeKeep => "octree-keep",
         }
     }
 }
@@ -157,6 +174,8 @@ fn build_bounded<P: PrimitiveSet>(kind: AccelKind, prims: Arc<P>) -> Box<dyn Acc
         AccelKind::Bvh => Box::new(Bvh::new(prims)),
         AccelKind::Grid => Box::new(Grid::new(prims, grid::DEFAULT_LAMBDA)),
         AccelKind::NestedGrid => Box::new(nested_grid::build(prims)),
+        AccelKind::Octree => Box::new(Octree::new(prims, octree::Policy::Lowest)),
+        AccelKind::OctreeKeep => Box::new(Octree::new(prims, octree::Policy::Keep)),
     }
 }
 
