@@ -40,6 +40,10 @@ struct Node {
     count: u32,
 }
 
+/// Tests a node's primitives given the closest distance so far; returns the new closest
+/// distance and whether to stop.
+type LeafVisitor<'a, C> = dyn FnMut(&[u32], f32, &mut C) -> (f32, bool) + 'a;
+
 pub struct Octree<P> {
     prims: Arc<P>,
     nodes: Vec<Node>,
@@ -153,13 +157,7 @@ impl<P: PrimitiveSet> Octree<P> {
 
     /// Visits nodes front to back. `visit(items)` tests primitives and returns the new closest
     /// distance and whether to stop.
-    fn walk<C: Counter>(
-        &self,
-        ray: &Ray,
-        t_max: f32,
-        stats: &mut C,
-        visit: &mut dyn FnMut(&[u32], f32, &mut C) -> (f32, bool),
-    ) {
+    fn walk<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C, visit: &mut LeafVisitor<'_, C>) {
         if self.nodes.is_empty() {
             return;
         }
