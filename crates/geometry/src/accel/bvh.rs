@@ -5,7 +5,7 @@
 //! first and culls entries farther than the closest hit found; shadow rays stop at the
 //! first hit.
 
-use super::{Accel, Counter, PrimitiveSet, TraversalStats};
+use super::{Counter, PrimitiveSet, Traverse};
 use crate::Hit;
 use glam::{Vec3, Vec4};
 use penumbra_core::{Aabb, Ray};
@@ -198,7 +198,7 @@ impl<P: PrimitiveSet> Bvh<P> {
         }
     }
 
-    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+    fn closest_hit<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
         let data = self.prims.prepare(ray);
         let mut closest = None;
         self.traverse(ray, t_max, stats, |leaf, mut t_max, stats| {
@@ -226,16 +226,12 @@ fn safe_recip(dir: Vec3) -> Vec3 {
 /// Widens exit distances by pbrt-v4's 1 + 2 gamma(3) so rounding never skips a box.
 const ROUNDING: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
-impl<P: PrimitiveSet> Accel for Bvh<P> {
-    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        self.closest(ray, t_max, &mut ())
+impl<P: PrimitiveSet> Traverse for Bvh<P> {
+    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+        self.closest_hit(ray, t_max, stats)
     }
 
-    fn intersect_counted(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit> {
-        self.closest(ray, t_max, stats)
-    }
-
-    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+    fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
         let data = self.prims.prepare(ray);
         let mut hit = false;
         self.traverse(ray, t_max, &mut (), |leaf, t_max, _| {
@@ -245,11 +241,11 @@ impl<P: PrimitiveSet> Accel for Bvh<P> {
         hit
     }
 
-    fn bounds(&self) -> Aabb {
+    fn extent(&self) -> Aabb {
         self.bounds
     }
 
-    fn memory_bytes(&self) -> usize {
+    fn bytes(&self) -> usize {
         std::mem::size_of::<Self>()
             + self.nodes.capacity() * std::mem::size_of::<Node4>()
             + self.order.capacity() * std::mem::size_of::<u32>()

@@ -9,7 +9,7 @@
 //! `(V / (lambda N))^(1/3)`), at most 512 per axis; `lambda` defaults to 4.
 
 use super::mailbox::with_mailbox;
-use super::{Accel, Counter, PrimitiveSet, TraversalStats};
+use super::{Counter, PrimitiveSet, Traverse};
 use crate::Hit;
 use glam::{UVec3, Vec3};
 use penumbra_core::{Aabb, Ray};
@@ -110,7 +110,7 @@ impl<P: PrimitiveSet> Grid<P> {
         count(&self.root)
     }
 
-    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+    fn closest_hit<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
         let data = self.prims.prepare(ray);
         with_mailbox(self.prims.len(), |mailbox| {
             let mut best: Option<Hit> = None;
@@ -289,16 +289,12 @@ impl Level {
     }
 }
 
-impl<P: PrimitiveSet> Accel for Grid<P> {
-    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        self.closest(ray, t_max, &mut ())
+impl<P: PrimitiveSet> Traverse for Grid<P> {
+    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+        self.closest_hit(ray, t_max, stats)
     }
 
-    fn intersect_counted(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit> {
-        self.closest(ray, t_max, stats)
-    }
-
-    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+    fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
         let data = self.prims.prepare(ray);
         with_mailbox(self.prims.len(), |mailbox| {
             self.root.walk(ray, t_max, &mut (), &mut |items, _, _| {
@@ -309,11 +305,11 @@ impl<P: PrimitiveSet> Accel for Grid<P> {
         })
     }
 
-    fn bounds(&self) -> Aabb {
+    fn extent(&self) -> Aabb {
         self.root.bounds
     }
 
-    fn memory_bytes(&self) -> usize {
+    fn bytes(&self) -> usize {
         std::mem::size_of::<Self>() + self.root.memory_bytes()
     }
 }

@@ -1,7 +1,7 @@
 //! The brute-force accelerator: every primitive, every ray. The reference the others are
 //! tested against.
 
-use super::{Accel, Counter, PrimitiveSet, TraversalStats};
+use super::{Counter, PrimitiveSet, Traverse};
 use crate::Hit;
 use penumbra_core::{Aabb, Ray};
 use std::sync::Arc;
@@ -39,25 +39,21 @@ pub fn closest_of<P: PrimitiveSet, C: Counter>(
     closest
 }
 
-impl<P: PrimitiveSet> Accel for List<P> {
-    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        closest_of(self.prims.as_ref(), 0..self.prims.len() as u32, ray, t_max, &mut ())
-    }
-
-    fn intersect_counted(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit> {
+impl<P: PrimitiveSet> Traverse for List<P> {
+    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
         closest_of(self.prims.as_ref(), 0..self.prims.len() as u32, ray, t_max, stats)
     }
 
-    fn memory_bytes(&self) -> usize {
-        std::mem::size_of::<Self>()
-    }
-
-    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+    fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
         let data = self.prims.prepare(ray);
         (0..self.prims.len() as u32).any(|i| self.prims.occluded(i, ray, &data, t_max))
     }
 
-    fn bounds(&self) -> Aabb {
+    fn extent(&self) -> Aabb {
         self.bounds
+    }
+
+    fn bytes(&self) -> usize {
+        std::mem::size_of::<Self>()
     }
 }

@@ -39,6 +39,33 @@ pub trait Accel: Send + Sync {
     fn memory_bytes(&self) -> usize;
 }
 
+/// What an accelerator implements; [`Accel`] follows from it, with the closest-hit query
+/// generic over a [`Counter`] so that counting costs nothing when it is not asked for.
+pub trait Traverse: Send + Sync {
+    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit>;
+    fn any_hit(&self, ray: &Ray, t_max: f32) -> bool;
+    fn extent(&self) -> Aabb;
+    fn bytes(&self) -> usize;
+}
+
+impl<T: Traverse> Accel for T {
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        self.closest(ray, t_max, &mut ())
+    }
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.any_hit(ray, t_max)
+    }
+    fn bounds(&self) -> Aabb {
+        self.extent()
+    }
+    fn intersect_counted(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit> {
+        self.closest(ray, t_max, stats)
+    }
+    fn memory_bytes(&self) -> usize {
+        self.bytes()
+    }
+}
+
 /// What one or more traversals cost.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct TraversalStats {

@@ -12,7 +12,7 @@
 //! distance at which the ray enters them, skipping those beyond the closest hit.
 
 use super::mailbox::with_mailbox;
-use super::{Accel, Counter, PrimitiveSet, TraversalStats};
+use super::{Counter, PrimitiveSet, Traverse};
 use crate::Hit;
 use glam::Vec3;
 use penumbra_core::{Aabb, Ray};
@@ -199,7 +199,7 @@ impl<P: PrimitiveSet> Octree<P> {
         }
     }
 
-    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+    fn closest_hit<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
         let data = self.prims.prepare(ray);
         with_mailbox(self.prims.len(), |mailbox| {
             let mut best: Option<Hit> = None;
@@ -220,16 +220,12 @@ impl<P: PrimitiveSet> Octree<P> {
     }
 }
 
-impl<P: PrimitiveSet> Accel for Octree<P> {
-    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        self.closest(ray, t_max, &mut ())
+impl<P: PrimitiveSet> Traverse for Octree<P> {
+    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+        self.closest_hit(ray, t_max, stats)
     }
 
-    fn intersect_counted(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit> {
-        self.closest(ray, t_max, stats)
-    }
-
-    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+    fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
         let data = self.prims.prepare(ray);
         with_mailbox(self.prims.len(), |mailbox| {
             let mut hit = false;
@@ -243,11 +239,11 @@ impl<P: PrimitiveSet> Accel for Octree<P> {
         })
     }
 
-    fn bounds(&self) -> Aabb {
+    fn extent(&self) -> Aabb {
         self.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds)
     }
 
-    fn memory_bytes(&self) -> usize {
+    fn bytes(&self) -> usize {
         std::mem::size_of::<Self>()
             + self.nodes.capacity() * std::mem::size_of::<Node>()
             + self.items.capacity() * std::mem::size_of::<u32>()
