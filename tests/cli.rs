@@ -248,7 +248,7 @@ fn every_accelerator_renders_the_same_image() {
     let dir = tempfile::tempdir().unwrap();
     for scene in ["whitted", "cornell", "refraction"] {
         let path = repo().join("scenes").join(format!("{scene}.toml"));
-        let images: Vec<Vec<u8>> = ["list", "bvh", "grid", "nested-grid", "octree", "octree-keep"]
+        let images: Vec<Vec<u8>> = ["list", "bvh", "grid", "nested-grid", "octree", "octree-keep", "kdtree"]
             .iter()
             .map(|accel| {
                 let out = format!("{scene}-{accel}.pfm");

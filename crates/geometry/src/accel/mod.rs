@@ -11,6 +11,7 @@
 
 mod bvh;
 mod grid;
+mod kdtree;
 mod list;
 mod mailbox;
 mod nested_grid;
@@ -18,6 +19,7 @@ mod octree;
 
 pub use bvh::Bvh;
 pub use grid::{Grid, GridParams};
+pub use kdtree::KdTree;
 pub use list::{closest_of, List};
 pub use octree::{Octree, Policy as OctreePolicy};
 
@@ -137,18 +139,21 @@ pub enum AccelKind {
     Octree,
     /// Octree, primitives that straddle a split kept at the intermediate node.
     OctreeKeep,
+    /// SAH k-d tree.
+    KdTree,
 }
 
 impl AccelKind {
-    pub const NAMES: [&'static str; 6] = ["list", "bvh", "grid", "nested-grid", "octree", "octree-keep"];
+    pub const NAMES: [&'static str; 7] = ["list", "bvh", "grid", "nested-grid", "octree", "octree-keep", "kdtree"];
     /// Every accelerator, in the order of [`AccelKind::NAMES`].
-    pub const ALL: [AccelKind; 6] = [
+    pub const ALL: [AccelKind; 7] = [
         AccelKind::List,
         AccelKind::Bvh,
         AccelKind::Grid,
         AccelKind::NestedGrid,
         AccelKind::Octree,
         AccelKind::OctreeKeep,
+        AccelKind::KdTree,
     ];
 
     pub fn from_name(name: &str) -> Option<Self> {
@@ -159,6 +164,7 @@ impl AccelKind {
             "nested-grid" => Some(AccelKind::NestedGrid),
             "octree" => Some(AccelKind::Octree),
             "octree-keep" => Some(AccelKind::OctreeKeep),
+            "kdtree" => Some(AccelKind::KdTree),
             _ => None,
         }
     }
@@ -171,6 +177,7 @@ impl AccelKind {
             AccelKind::NestedGrid => "nested-grid",
             AccelKind::Octree => "octree",
             AccelKind::OctreeKeep => "octree-keep",
+            AccelKind::KdTree => "kdtree",
         }
     }
 }
@@ -203,6 +210,7 @@ fn build_bounded<P: PrimitiveSet>(kind: AccelKind, prims: Arc<P>) -> Box<dyn Acc
         AccelKind::NestedGrid => Box::new(nested_grid::build(prims)),
         AccelKind::Octree => Box::new(Octree::new(prims, octree::Policy::Lowest)),
         AccelKind::OctreeKeep => Box::new(Octree::new(prims, octree::Policy::Keep)),
+        AccelKind::KdTree => Box::new(KdTree::new(prims)),
     }
 }
 
