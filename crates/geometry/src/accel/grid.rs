@@ -115,15 +115,7 @@ impl<P: PrimitiveSet> Grid<P> {
         with_mailbox(self.prims.len(), |mailbox| {
             let mut best: Option<Hit> = None;
             self.root.walk(ray, t_max, stats, &mut |items, t_exit, stats| {
-                for &i in items {
-                    if mailbox.first_visit(i) {
-                        stats.prims(1);
-                        let limit = best.map_or(t_max, |h| h.t);
-                        if let Some(hit) = self.prims.intersect(i, ray, &data, limit) {
-                            best = Some(hit);
-                        }
-                    }
-                }
+                mailbox.closest_in(self.prims.as_ref(), items, ray, &data, t_max, &mut best, stats);
                 // A hit counts once the walk has passed it: nothing nearer can remain.
                 best.is_some_and(|h| h.t <= t_exit)
             });
@@ -298,9 +290,7 @@ impl<P: PrimitiveSet> Traverse for Grid<P> {
         let data = self.prims.prepare(ray);
         with_mailbox(self.prims.len(), |mailbox| {
             self.root.walk(ray, t_max, &mut (), &mut |items, _, _| {
-                items
-                    .iter()
-                    .any(|&i| mailbox.first_visit(i) && self.prims.occluded(i, ray, &data, t_max))
+                mailbox.any_in(self.prims.as_ref(), items, ray, &data, t_max)
             })
         })
     }

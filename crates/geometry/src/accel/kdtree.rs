@@ -196,14 +196,7 @@ impl<P: PrimitiveSet> KdTree<P> {
         with_mailbox(self.prims.len(), |mailbox| {
             let mut best: Option<Hit> = None;
             self.walk(ray, t_max, stats, &mut |items, t_leaf_exit, stats| {
-                for &i in items {
-                    if mailbox.first_visit(i) {
-                        stats.prims(1);
-                        if let Some(hit) = self.prims.intersect(i, ray, &data, best.map_or(t_max, |h| h.t)) {
-                            best = Some(hit);
-                        }
-                    }
-                }
+                mailbox.closest_in(self.prims.as_ref(), items, ray, &data, t_max, &mut best, stats);
                 best.is_some_and(|h| h.t <= t_leaf_exit)
             });
             best
@@ -221,9 +214,7 @@ impl<P: PrimitiveSet> Traverse for KdTree<P> {
         with_mailbox(self.prims.len(), |mailbox| {
             let mut hit = false;
             self.walk(ray, t_max, &mut (), &mut |items, _, _| {
-                hit = items
-                    .iter()
-                    .any(|&i| mailbox.first_visit(i) && self.prims.occluded(i, ray, &data, t_max));
+                hit = mailbox.any_in(self.prims.as_ref(), items, ray, &data, t_max);
                 hit
             });
             hit

@@ -4,6 +4,9 @@
 //! stamp arrays: a query takes one (nested queries, as through instances, take another),
 //! stamps it with a fresh ray number, and gives it back.
 
+use super::{Counter, PrimitiveSet};
+use crate::Hit;
+use penumbra_core::Ray;
 use std::cell::RefCell;
 
 pub struct Mailbox {
@@ -22,6 +25,45 @@ impl Mailbox {
             *m = self.ray;
             true
         }
+    }
+}
+
+impl Mailbox {
+    /// Tests the primitives of `items` that this query has not tested yet, keeping the
+    /// closest hit below `t_max` in `best`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn closest_in<P: PrimitiveSet, C: Counter>(
+        &mut self,
+        prims: &P,
+        items: &[u32],
+        ray: &Ray,
+        data: &P::RayData,
+        t_max: f32,
+        best: &mut Option<Hit>,
+        stats: &mut C,
+    ) {
+        for &i in items {
+            if self.first_visit(i) {
+                stats.prims(1);
+                if let Some(hit) = prims.intersect(i, ray, data, best.map_or(t_max, |h| h.t)) {
+                    *best = Some(hit);
+                }
+            }
+        }
+    }
+
+    /// Whether a primitive of `items` that this query has not tested yet blocks `ray`.
+    pub fn any_in<P: PrimitiveSet>(
+        &mut self,
+        prims: &P,
+        items: &[u32],
+        ray: &Ray,
+        data: &P::RayData,
+        t_max: f32,
+    ) -> bool {
+        items
+            .iter()
+            .any(|&i| self.first_visit(i) && prims.occluded(i, ray, data, t_max))
     }
 }
 

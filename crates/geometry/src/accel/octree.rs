@@ -203,17 +203,9 @@ impl<P: PrimitiveSet> Octree<P> {
         let data = self.prims.prepare(ray);
         with_mailbox(self.prims.len(), |mailbox| {
             let mut best: Option<Hit> = None;
-            self.walk(ray, t_max, stats, &mut |items, mut limit, stats| {
-                for &i in items {
-                    if mailbox.first_visit(i) {
-                        stats.prims(1);
-                        if let Some(hit) = self.prims.intersect(i, ray, &data, limit) {
-                            limit = hit.t;
-                            best = Some(hit);
-                        }
-                    }
-                }
-                (limit, false)
+            self.walk(ray, t_max, stats, &mut |items, limit, stats| {
+                mailbox.closest_in(self.prims.as_ref(), items, ray, &data, limit, &mut best, stats);
+                (best.map_or(limit, |h| h.t), false)
             });
             best
         })
@@ -230,9 +222,7 @@ impl<P: PrimitiveSet> Traverse for Octree<P> {
         with_mailbox(self.prims.len(), |mailbox| {
             let mut hit = false;
             self.walk(ray, t_max, &mut (), &mut |items, limit, _| {
-                hit = items
-                    .iter()
-                    .any(|&i| mailbox.first_visit(i) && self.prims.occluded(i, ray, &data, t_max));
+                hit = mailbox.any_in(self.prims.as_ref(), items, ray, &data, t_max);
                 (limit, hit)
             });
             hit
