@@ -8,7 +8,7 @@
 //! Resolution: about `lambda * N` cells in all, shaped like the bounds (cell side
 //! `(V / (lambda N))^(1/3)`), at most 512 per axis; `lambda` defaults to 4.
 
-use super::mailbox::with_mailbox;
+use super::mailbox::{closest_in_cells, occluded_in_cells, CellVisitor, CellWalk};
 use super::{Counter, PrimitiveSet, Traverse};
 use crate::Hit;
 use glam::{UVec3, Vec3};
@@ -109,19 +109,6 @@ impl<P: PrimitiveSet> Grid<P> {
         }
         count(&self.root)
     }
-
-    fn closest_hit<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
-        let data = self.prims.prepare(ray);
-        with_mailbox(self.prims.len(), |mailbox| {
-            let mut best: Option<Hit> = None;
-            self.root.walk(ray, t_max, stats, &mut |items, t_exit, stats| {
-                mailbox.closest_in(self.prims.as_ref(), items, ray, &data, t_max, &mut best, stats);
-                // A hit counts once the walk has passed it: nothing nearer can remain.
-                best.is_some_and(|h| h.t <= t_exit)
-            });
-            best
-        })
-    }
 }
 
 impl Level {
@@ -215,15 +202,9 @@ impl Level {
         (c.z * self.res.y + c.y) * self.res.x + c.x
     }
 
-    /// Walks the cells along `ray` in order, descending into sub-grids.
-    /// `visit(items, t_exit)` returns whether to stop; so does `walk`.
-    fn walk<C: Counter>(
-        &self,
-        ray: &Ray,
-        t_max: f32,
-        stats: &mut C,
-        visit: &mut dyn FnMut(&[u32], f32, &mut C) -> bool,
-    ) -> bool {
+    /// Walks the cells along `ray` in order, descending into sub-grids; returns whether the
+    /// visitor ended the walk.
+    fn walk<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C, visit: &mut CellVisitor<'_, C>) -> bool {
         if self.starts.len() < 2 || self.bounds.is_empty() {
             return false;
         }
@@ -258,7 +239,7 @@ impl Level {
                     &self.items[self.starts[c] as usize..self.starts[c + 1] as usize],
                     t_exit,
                     stats,
-                )
+                ) <= t_exit
             } else {
                 self.children[sub as usize].walk(ray, t_max, stats, visit)
             };
@@ -281,18 +262,23 @@ impl Level {
     }
 }
 
+impl<P: PrimitiveSet> CellWalk for Grid<P> {
+    type Prims = P;
+    fn prims(&self) -> &P {
+        &self.prims
+    }
+    fn walk<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C, visit: &mut CellVisitor<'_, C>) {
+        self.root.walk(ray, t_max, stats, visit);
+    }
+}
+
 impl<P: PrimitiveSet> Traverse for Grid<P> {
     fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
-        self.closest_hit(ray, t_max, stats)
+        closest_in_cells(self, ray, t_max, stats)
     }
 
     fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
-        let data = self.prims.prepare(ray);
-        with_mailbox(self.prims.len(), |mailbox| {
-            self.root.walk(ray, t_max, &mut (), &mut |items, _, _| {
-                mailbox.any_in(self.prims.as_ref(), items, ray, &data, t_max)
-            })
-        })
+        occluded_in_cells(self, ray, t_max)
     }
 
     fn extent(&self) -> Aabb {

@@ -8,7 +8,7 @@
 //! walk: the near child first, the far one later, stopping once a hit lies inside the
 //! current node's interval; mailboxing skips primitives met in earlier leaves.
 
-use super::mailbox::with_mailbox;
+use super::mailbox::{closest_in_cells, occluded_in_cells, CellVisitor, CellWalk};
 use super::{Counter, PrimitiveSet, Traverse};
 use crate::Hit;
 use penumbra_core::{Aabb, Ray};
@@ -139,13 +139,7 @@ impl<P: PrimitiveSet> KdTree<P> {
         self.build(boxes, above, rb, depth_left - 1);
     }
 
-    fn walk<C: Counter>(
-        &self,
-        ray: &Ray,
-        t_max: f32,
-        stats: &mut C,
-        visit: &mut dyn FnMut(&[u32], f32, &mut C) -> bool,
-    ) {
+    fn walk_cells<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C, visit: &mut CellVisitor<'_, C>) {
         if self.nodes.is_empty() {
             return;
         }
@@ -164,7 +158,7 @@ impl<P: PrimitiveSet> KdTree<P> {
             stats.node();
             let n = self.nodes[node as usize];
             if n.axis == 3 {
-                if visit(&self.items[n.index as usize..(n.index + n.count) as usize], t1, stats) {
+                if visit(&self.items[n.index as usize..(n.index + n.count) as usize], t1, stats) <= t1 {
                     return;
                 }
                 let Some(next) = stack.pop() else { return };
@@ -190,35 +184,25 @@ impl<P: PrimitiveSet> KdTree<P> {
             }
         }
     }
+}
 
-    fn closest_hit<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
-        let data = self.prims.prepare(ray);
-        with_mailbox(self.prims.len(), |mailbox| {
-            let mut best: Option<Hit> = None;
-            self.walk(ray, t_max, stats, &mut |items, t_leaf_exit, stats| {
-                mailbox.closest_in(self.prims.as_ref(), items, ray, &data, t_max, &mut best, stats);
-                best.is_some_and(|h| h.t <= t_leaf_exit)
-            });
-            best
-        })
+impl<P: PrimitiveSet> CellWalk for KdTree<P> {
+    type Prims = P;
+    fn prims(&self) -> &P {
+        &self.prims
+    }
+    fn walk<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C, visit: &mut CellVisitor<'_, C>) {
+        self.walk_cells(ray, t_max, stats, visit);
     }
 }
 
 impl<P: PrimitiveSet> Traverse for KdTree<P> {
     fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
-        self.closest_hit(ray, t_max, stats)
+        closest_in_cells(self, ray, t_max, stats)
     }
 
     fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
-        let data = self.prims.prepare(ray);
-        with_mailbox(self.prims.len(), |mailbox| {
-            let mut hit = false;
-            self.walk(ray, t_max, &mut (), &mut |items, _, _| {
-                hit = mailbox.any_in(self.prims.as_ref(), items, ray, &data, t_max);
-                hit
-            });
-            hit
-        })
+        occluded_in_cells(self, ray, t_max)
     }
 
     fn extent(&self) -> Aabb {

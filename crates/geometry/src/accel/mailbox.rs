@@ -9,7 +9,7 @@ use crate::Hit;
 use penumbra_core::Ray;
 use std::cell::RefCell;
 
-pub struct Mailbox {
+struct Mailbox {
     ray: u32,
     marks: Vec<u32>,
 }
@@ -17,7 +17,7 @@ pub struct Mailbox {
 impl Mailbox {
     /// True the first time `prim` is offered during this query, false after.
     #[inline]
-    pub fn first_visit(&mut self, prim: u32) -> bool {
+    fn first_visit(&mut self, prim: u32) -> bool {
         let m = &mut self.marks[prim as usize];
         if *m == self.ray {
             false
@@ -28,43 +28,59 @@ impl Mailbox {
     }
 }
 
-impl Mailbox {
-    /// Tests the primitives of `items` that this query has not tested yet, keeping the
-    /// closest hit below `t_max` in `best`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn closest_in<P: PrimitiveSet, C: Counter>(
-        &mut self,
-        prims: &P,
-        items: &[u32],
-        ray: &Ray,
-        data: &P::RayData,
-        t_max: f32,
-        best: &mut Option<Hit>,
-        stats: &mut C,
-    ) {
-        for &i in items {
-            if self.first_visit(i) {
-                stats.prims(1);
-                if let Some(hit) = prims.intersect(i, ray, data, best.map_or(t_max, |h| h.t)) {
-                    *best = Some(hit);
+/// The visitor a [`CellWalk`] calls with each cell's primitives and the distance at which
+/// the ray leaves the cell; it returns the closest hit distance found so far, or
+/// `f32::NEG_INFINITY` to end the walk.
+pub type CellVisitor<'a, C> = dyn FnMut(&[u32], f32, &mut C) -> f32 + 'a;
+
+/// A spatial subdivision that may list a primitive in several cells and hands the cells
+/// along a ray to a visitor, nearest first. The walk ends once the closest distance the
+/// visitor reports lies within the cell just visited: nothing nearer can remain.
+pub trait CellWalk {
+    type Prims: PrimitiveSet;
+    fn prims(&self) -> &Self::Prims;
+    fn walk<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C, visit: &mut CellVisitor<'_, C>);
+}
+
+/// The closest hit of a cell walk, each primitive tested at most once.
+pub fn closest_in_cells<W: CellWalk, C: Counter>(w: &W, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+    let prims = w.prims();
+    let data = prims.prepare(ray);
+    with_mailbox(prims.len(), |mailbox| {
+        let mut best: Option<Hit> = None;
+        w.walk(ray, t_max, stats, &mut |items, _, stats| {
+            for &i in items {
+                if mailbox.first_visit(i) {
+                    stats.prims(1);
+                    if let Some(hit) = prims.intersect(i, ray, &data, best.map_or(t_max, |h| h.t)) {
+                        best = Some(hit);
+                    }
                 }
             }
-        }
-    }
+            best.map_or(f32::INFINITY, |h| h.t)
+        });
+        best
+    })
+}
 
-    /// Whether a primitive of `items` that this query has not tested yet blocks `ray`.
-    pub fn any_in<P: PrimitiveSet>(
-        &mut self,
-        prims: &P,
-        items: &[u32],
-        ray: &Ray,
-        data: &P::RayData,
-        t_max: f32,
-    ) -> bool {
-        items
-            .iter()
-            .any(|&i| self.first_visit(i) && prims.occluded(i, ray, data, t_max))
-    }
+/// Whether anything blocks `ray` before `t_max`, by a cell walk.
+pub fn occluded_in_cells<W: CellWalk>(w: &W, ray: &Ray, t_max: f32) -> bool {
+    let prims = w.prims();
+    let data = prims.prepare(ray);
+    with_mailbox(prims.len(), |mailbox| {
+        let mut hit = false;
+        w.walk(ray, t_max, &mut (), &mut |items, _, _| {
+            hit = items
+                .iter()
+                .any(|&i| mailbox.first_visit(i) && prims.occluded(i, ray, &data, t_max));
+            if hit {
+                f32::NEG_INFINITY
+            } else {
+                f32::INFINITY
+            }
+        });
+        hit
+    })
 }
 
 thread_local! {
@@ -72,7 +88,7 @@ thread_local! {
 }
 
 /// Runs `f` with a mailbox for `prims` primitives that has no marks yet.
-pub fn with_mailbox<R>(prims: usize, f: impl FnOnce(&mut Mailbox) -> R) -> R {
+fn with_mailbox<R>(prims: usize, f: impl FnOnce(&mut Mailbox) -> R) -> R {
     let mut mb = POOL.with(|p| p.borrow_mut().pop()).unwrap_or(Mailbox {
         ray: 0,
         marks: Vec::new(),

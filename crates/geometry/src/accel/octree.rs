@@ -11,7 +11,7 @@
 //! Traversal visits a node's own primitives, then its children front to back by the
 //! distance at which the ray enters them, skipping those beyond the closest hit.
 
-use super::mailbox::with_mailbox;
+use super::mailbox::{closest_in_cells, occluded_in_cells, CellVisitor, CellWalk};
 use super::{Counter, PrimitiveSet, Traverse};
 use crate::Hit;
 use glam::Vec3;
@@ -39,10 +39,6 @@ struct Node {
     first: u32,
     count: u32,
 }
-
-/// Tests a node's primitives given the closest distance so far; returns the new closest
-/// distance and whether to stop.
-type LeafVisitor<'a, C> = dyn FnMut(&[u32], f32, &mut C) -> (f32, bool) + 'a;
 
 pub struct Octree<P> {
     prims: Arc<P>,
@@ -155,9 +151,9 @@ impl<P: PrimitiveSet> Octree<P> {
         self.items.extend_from_slice(ids);
     }
 
-    /// Visits nodes front to back. `visit(items)` tests primitives and returns the new closest
-    /// distance and whether to stop.
-    fn walk<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C, visit: &mut LeafVisitor<'_, C>) {
+    /// Visits nodes front to back, culling those beyond the closest distance the visitor
+    /// reports.
+    fn walk_nodes<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C, visit: &mut CellVisitor<'_, C>) {
         if self.nodes.is_empty() {
             return;
         }
@@ -173,15 +169,15 @@ impl<P: PrimitiveSet> Octree<P> {
             }
             stats.node();
             let node = &self.nodes[index as usize];
-            let (t, stop) = visit(
+            let closest = visit(
                 &self.items[node.first as usize..(node.first + node.count) as usize],
                 t_max,
                 stats,
             );
-            if stop {
+            if closest == f32::NEG_INFINITY {
                 return;
             }
-            t_max = t;
+            t_max = t_max.min(closest);
             if node.children == NO_CHILDREN {
                 continue;
             }
@@ -198,35 +194,25 @@ impl<P: PrimitiveSet> Octree<P> {
             stack.extend(hits);
         }
     }
+}
 
-    fn closest_hit<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
-        let data = self.prims.prepare(ray);
-        with_mailbox(self.prims.len(), |mailbox| {
-            let mut best: Option<Hit> = None;
-            self.walk(ray, t_max, stats, &mut |items, limit, stats| {
-                mailbox.closest_in(self.prims.as_ref(), items, ray, &data, limit, &mut best, stats);
-                (best.map_or(limit, |h| h.t), false)
-            });
-            best
-        })
+impl<P: PrimitiveSet> CellWalk for Octree<P> {
+    type Prims = P;
+    fn prims(&self) -> &P {
+        &self.prims
+    }
+    fn walk<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C, visit: &mut CellVisitor<'_, C>) {
+        self.walk_nodes(ray, t_max, stats, visit);
     }
 }
 
 impl<P: PrimitiveSet> Traverse for Octree<P> {
     fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
-        self.closest_hit(ray, t_max, stats)
+        closest_in_cells(self, ray, t_max, stats)
     }
 
     fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
-        let data = self.prims.prepare(ray);
-        with_mailbox(self.prims.len(), |mailbox| {
-            let mut hit = false;
-            self.walk(ray, t_max, &mut (), &mut |items, limit, _| {
-                hit = mailbox.any_in(self.prims.as_ref(), items, ray, &data, t_max);
-                (limit, hit)
-            });
-            hit
-        })
+        occluded_in_cells(self, ray, t_max)
     }
 
     fn extent(&self) -> Aabb {
