@@ -17,6 +17,9 @@ use std::sync::Arc;
 const TRAVERSAL_COST: f32 = 1.0;
 const INTERSECT_COST: f32 = 1.5;
 const EMPTY_BONUS: f32 = 0.8;
+/// Depth limit of the tree, and so of the traversal stack (the usual 8 + 1.3 log2 N stays
+/// below it up to about 2^43 primitives).
+const MAX_STACK: usize = 64;
 
 /// Interior: `axis` 0-2, split plane, second child at `index` (the first follows the
 /// node). Leaf (`axis` 3): primitives `items[index..index + count]`.
@@ -47,7 +50,7 @@ impl<P: PrimitiveSet> KdTree<P> {
             bounds,
         };
         if n > 0 && !bounds.is_empty() {
-            let max_depth = (8.0 + 1.3 * (n as f32).log2()) as u32;
+            let max_depth = ((8.0 + 1.3 * (n as f32).log2()) as u32).min(MAX_STACK as u32);
             tree.build(&boxes, (0..n).collect(), bounds, max_depth);
         }
         tree
@@ -152,7 +155,9 @@ impl<P: PrimitiveSet> KdTree<P> {
             let t1 = (self.bounds.max - ray.origin) * inv;
             t0.max(t1).min_element().min(t_max)
         };
-        let mut stack: Vec<(u32, f32, f32)> = Vec::with_capacity(64);
+        // One pending far child per level of a tree at most `self.max_depth` deep.
+        let mut stack = [(0u32, 0f32, 0f32); MAX_STACK];
+        let mut top = 0;
         let (mut node, mut t0, mut t1) = (0u32, t_enter, t_exit);
         loop {
             stats.node();
@@ -161,8 +166,11 @@ impl<P: PrimitiveSet> KdTree<P> {
                 if visit(&self.items[n.index as usize..(n.index + n.count) as usize], t1, stats) <= t1 {
                     return;
                 }
-                let Some(next) = stack.pop() else { return };
-                (node, t0, t1) = next;
+                if top == 0 {
+                    return;
+                }
+                top -= 1;
+                (node, t0, t1) = stack[top];
                 continue;
             }
             let a = n.axis as usize;
@@ -178,7 +186,8 @@ impl<P: PrimitiveSet> KdTree<P> {
             } else if t_plane < t0 {
                 node = far;
             } else {
-                stack.push((far, t_plane, t1));
+                stack[top] = (far, t_plane, t1);
+                top += 1;
                 node = near;
                 t1 = t_plane;
             }

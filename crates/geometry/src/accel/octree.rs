@@ -159,11 +159,16 @@ impl<P: PrimitiveSet> Octree<P> {
         }
         let inv = ray.dir.recip();
         let mut t_max = t_max;
-        let mut stack: Vec<(u32, f32)> = Vec::with_capacity(64);
+        // At most 8 entries per level of a tree at most MAX_DEPTH deep: no allocation per ray.
+        let mut stack = [(0u32, 0f32); 8 * (MAX_DEPTH as usize + 1)];
+        let mut top = 0;
         if let Some(t) = self.nodes[0].bounds.hit(ray, inv, t_max) {
-            stack.push((0, t));
+            stack[0] = (0, t);
+            top = 1;
         }
-        while let Some((index, t_near)) = stack.pop() {
+        while top > 0 {
+            top -= 1;
+            let (index, t_near) = stack[top];
             if t_near > t_max {
                 continue;
             }
@@ -182,16 +187,18 @@ impl<P: PrimitiveSet> Octree<P> {
                 continue;
             }
             // Push the children the ray enters, farthest first, so the nearest is popped next.
-            let mut hits: Vec<(u32, f32)> = (0..8)
-                .filter_map(|k| {
-                    let c = node.children + k;
-                    let n = &self.nodes[c as usize];
-                    (n.count > 0 || n.children != NO_CHILDREN).then_some(())?;
-                    n.bounds.hit(ray, inv, t_max).map(|t| (c, t))
-                })
-                .collect();
-            hits.sort_by(|a, b| b.1.total_cmp(&a.1));
-            stack.extend(hits);
+            let start = top;
+            for c in node.children..node.children + 8 {
+                let n = &self.nodes[c as usize];
+                if n.count == 0 && n.children == NO_CHILDREN {
+                    continue;
+                }
+                if let Some(t) = n.bounds.hit(ray, inv, t_max) {
+                    stack[top] = (c, t);
+                    top += 1;
+                }
+            }
+            stack[start..top].sort_unstable_by(|a, b| b.1.total_cmp(&a.1));
         }
     }
 }
