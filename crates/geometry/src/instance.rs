@@ -1,30 +1,71 @@
 //! Instancing: one mesh with its own accelerator, placed any number of times under
 //! different transforms without copying its triangles.
 
-use crate::accel::{build_accel, Accel, AccelKind, PrimitiveSet};
+use crate::accel::{build_accel, Accel, AccelKind, PrimitiveSet, PAD};
 use crate::shapes::triangle::{intersect_triangle_prepared, TriangleRay};
+use crate::shapes::triangle4::Triangle4;
 use crate::shapes::triangle_box::triangle_overlaps_box;
 use crate::{Hit, Placement, TriangleMesh};
 use glam::{Vec2, Vec3};
 use penumbra_core::{Aabb, Ray, Transform};
 use std::sync::Arc;
 
-/// The triangles of one mesh as a primitive set, their vertices stored contiguously so
-/// that a test touches one cache line instead of chasing indices.
+/// The triangles of one mesh as a primitive set, their vertices stored in packets of four
+/// (one SIMD lane each) so that a test touches adjacent memory instead of chasing indices,
+/// and an accelerator's leaf of up to four triangles is tested at once.
 pub struct MeshTriangles {
     pub mesh: Arc<TriangleMesh>,
-    triangles: Vec<[Vec3; 3]>,
+    /// Triangle `i` is lane `i % 4` of packet `i / 4`.
+    packets: Vec<Triangle4>,
+    /// Number of triangle slots (empty ones included in a reordered set).
+    len: usize,
+    /// The mesh's number for each slot once reordered ([`PAD`] for an empty one); empty while
+    /// the triangles are in the mesh's order.
+    ids: Vec<u32>,
 }
 
 impl MeshTriangles {
     pub fn new(mesh: Arc<TriangleMesh>) -> Self {
-        let triangles = (0..mesh.indices.len()).map(|i| mesh.vertices(i)).collect();
-        MeshTriangles { mesh, triangles }
+        let triangles: Vec<[Vec3; 3]> = (0..mesh.indices.len()).map(|i| mesh.vertices(i)).collect();
+        MeshTriangles {
+            packets: triangles.chunks(4).map(Triangle4::pack).collect(),
+            len: triangles.len(),
+            mesh,
+            ids: Vec::new(),
+        }
     }
 
-    /// Bytes held beside the mesh itself.
-    pub fn memory_bytes(&self) -> usize {
-        self.triangles.capacity() * std::mem::size_of::<[Vec3; 3]>()
+    /// The mesh's number for slot `i`.
+    #[inline]
+    fn id(&self, i: u32) -> u32 {
+        if self.ids.is_empty() {
+            i
+        } else {
+            self.ids[i as usize]
+        }
+    }
+
+    #[inline]
+    fn triangle(&self, i: u32) -> [Vec3; 3] {
+        self.packets[i as usize / 4].get(i as usize % 4)
+    }
+
+    /// Calls `f(packet, lanes)` for the packets holding slots `first..first + count`, `lanes`
+    /// being the mask of the slots' lanes.
+    #[inline(always)]
+    fn runs<R>(&self, first: usize, count: usize, mut f: impl FnMut(usize, u32) -> Option<R>) -> Option<R> {
+        let end = first + count;
+        let mut packet = first / 4;
+        while packet * 4 < end {
+            let lo = first.max(packet * 4) - packet * 4;
+            let hi = end.min(packet * 4 + 4) - packet * 4;
+            let lanes = (0b1111u32 >> (4 - hi)) & !((1u32 << lo) - 1);
+            if let Some(r) = f(packet, lanes) {
+                return Some(r);
+            }
+            packet += 1;
+        }
+        None
     }
 }
 
@@ -35,22 +76,69 @@ impl PrimitiveSet for MeshTriangles {
         TriangleRay::new(ray)
     }
     fn len(&self) -> usize {
-        self.triangles.len()
+        self.len
     }
     fn bounds(&self, i: u32) -> Aabb {
-        Aabb::from_points(self.triangles[i as usize])
+        if self.id(i) == PAD {
+            return Aabb::EMPTY;
+        }
+        Aabb::from_points(self.triangle(i))
     }
     fn overlaps(&self, i: u32, b: &Aabb) -> bool {
-        triangle_overlaps_box(self.triangles[i as usize], b)
+        self.id(i) != PAD && triangle_overlaps_box(self.triangle(i), b)
     }
     #[inline]
     fn intersect(&self, i: u32, _ray: &Ray, data: &TriangleRay, t_max: f32) -> Option<Hit> {
-        intersect_triangle_prepared(data, self.triangles[i as usize], t_max).map(|(t, uv)| Hit {
+        intersect_triangle_prepared(data, self.triangle(i), t_max).map(|(t, uv)| Hit {
             t,
-            prim: i,
+            prim: self.id(i),
             sub: 0,
             uv,
         })
+    }
+    #[inline(always)]
+    fn intersect_run(&self, first: usize, count: usize, _ray: &Ray, data: &TriangleRay, t_max: f32) -> Option<Hit> {
+        let mut t_max = t_max;
+        let mut closest = None;
+        self.runs(first, count, |packet, lanes| {
+            if let Some((lane, t, uv)) = self.packets[packet].closest(data, t_max, lanes) {
+                t_max = t;
+                closest = Some(Hit {
+                    t,
+                    prim: self.id((packet * 4 + lane) as u32),
+                    sub: 0,
+                    uv,
+                });
+            }
+            None::<()>
+        });
+        closest
+    }
+    #[inline(always)]
+    fn occluded_run(&self, first: usize, count: usize, _ray: &Ray, data: &TriangleRay, t_max: f32) -> bool {
+        self.runs(first, count, |packet, lanes| self.packets[packet].any(data, t_max, lanes).then_some(()))
+            .is_some()
+    }
+    fn group(&self) -> usize {
+        4
+    }
+    fn reordered(&self, order: &[u32]) -> Option<Self> {
+        let mut packets = vec![Triangle4::EMPTY; order.len().div_ceil(4)];
+        for (slot, &i) in order.iter().enumerate() {
+            if i != PAD {
+                packets[slot / 4].set(slot % 4, self.triangle(i));
+            }
+        }
+        Some(MeshTriangles {
+            mesh: self.mesh.clone(),
+            packets,
+            len: order.len(),
+            ids: order.iter().map(|&i| if i == PAD { PAD } else { self.id(i) }).collect(),
+        })
+    }
+    /// The packed vertices and the slots' numbers (the mesh itself is counted apart).
+    fn memory_bytes(&self) -> usize {
+        self.packets.capacity() * std::mem::size_of::<Triangle4>() + self.ids.capacity() * 4
     }
 }
 

@@ -5,10 +5,11 @@
 //! first and culls entries farther than the closest hit found; shadow rays stop at the
 //! first hit.
 
-use super::{Counter, PrimitiveSet, Traverse};
+use super::{Counter, PrimitiveSet, Traverse, PAD};
 use crate::Hit;
 use glam::{Vec3, Vec4};
 use penumbra_core::{Aabb, Ray};
+use std::mem::MaybeUninit;
 use std::sync::Arc;
 
 const BINS: usize = 16;
@@ -48,6 +49,7 @@ struct Node4 {
 pub struct Bvh<P> {
     prims: Arc<P>,
     nodes: Vec<Node4>,
+    /// The primitive in each leaf slot; empty when `prims` is stored in leaf order.
     order: Vec<u32>,
     bounds: Aabb,
     /// The whole tree is one leaf (a single primitive or coincident ones).
@@ -77,12 +79,23 @@ impl<P: PrimitiveSet> Bvh<P> {
                 }
             })
             .collect();
-        let binary = if info.is_empty() {
+        let group = prims.group().max(1);
+        let mut binary = if info.is_empty() {
             Vec::new()
         } else {
-            build(&mut info, 0, 0)
+            build(&mut info, 0, 0, group)
         };
-        let order = info.iter().map(|p| p.index).collect();
+        let mut order: Vec<u32> = info.iter().map(|p| p.index).collect();
+        if group > 1 {
+            order = align_leaves(&mut binary, &order, group);
+        }
+        let prims = match prims.reordered(&order) {
+            Some(reordered) => {
+                order = Vec::new();
+                Arc::new(reordered)
+            }
+            None => prims,
+        };
         let bounds = binary.first().map_or(Aabb::EMPTY, |n| Aabb {
             min: n.min.into(),
             max: n.max.into(),
@@ -112,19 +125,21 @@ impl<P: PrimitiveSet> Bvh<P> {
     }
 
     /// Visits the leaves the ray may hit, nearest first. `visit(first, count, t_max)`
-    /// tests a leaf and returns the new `t_max` and whether to stop.
-    #[inline]
+    /// tests the primitives in slots `first..first + count` and returns the new `t_max` and
+    /// whether to stop. The node being visited is kept out of the stack: of the children a
+    /// node's box test hits, the nearest is visited next and the others are pushed, farthest
+    /// first, with their entry distances, so that popped entries beyond `t_max` are culled.
+    #[inline(always)]
     fn traverse<C: Counter>(
         &self,
         ray: &Ray,
         mut t_max: f32,
         stats: &mut C,
-        mut visit: impl FnMut(&[u32], f32, &mut C) -> (f32, bool),
+        mut visit: impl FnMut(usize, usize, f32, &mut C) -> (f32, bool),
     ) {
         if let Some((first, count)) = self.root_leaf {
-            let leaf = &self.order[first as usize..first as usize + count as usize];
             if self.bounds.hit(ray, safe_recip(ray.dir), t_max).is_some() {
-                visit(leaf, t_max, stats);
+                visit(first as usize, count as usize, t_max, stats);
             }
             return;
         }
@@ -145,55 +160,83 @@ impl<P: PrimitiveSet> Bvh<P> {
             4 + (inv.z < 0.0) as usize,
         ];
         let far = [near[0] ^ 1, near[1] ^ 1, near[2] ^ 1];
-        // Entries: node index, or a leaf as (LEAF | first, count); and the entry distance.
-        let mut stack = [(0u32, 0u16, 0f32); STACK];
-        let mut top = 1;
-        while top > 0 {
-            top -= 1;
-            let (index, count, t_near) = stack[top];
-            if t_near > t_max {
-                continue;
-            }
+        // Pending subtrees (a node, or a leaf with its count in the high half) and their
+        // entry distances; only slots below `top` are ever read, so they start uninitialised.
+        let mut refs = [MaybeUninit::<u64>::uninit(); STACK];
+        let mut dists = [MaybeUninit::<f32>::uninit(); STACK];
+        let mut top = 0;
+        let mut current = 0u64;
+        loop {
+            let index = current as u32 as usize;
+            let count = (current >> 32) as usize;
             if count > 0 {
-                let leaf = &self.order[index as usize..index as usize + count as usize];
-                let (t, stop) = visit(leaf, t_max, stats);
+                let (t, stop) = visit(index, count, t_max, stats);
                 if stop {
                     return;
                 }
                 t_max = t;
-                continue;
-            }
-            let node = &self.nodes[index as usize];
-            stats.node();
-            let b = &node.bounds;
-            let t0 = ((Vec4::from(b[near[0]]) - ox) * ix)
-                .max((Vec4::from(b[near[1]]) - oy) * iy)
-                .max((Vec4::from(b[near[2]]) - oz) * iz)
-                .max(Vec4::ZERO);
-            let t1 = ((Vec4::from(b[far[0]]) - ox) * ix)
-                .min((Vec4::from(b[far[1]]) - oy) * iy)
-                .min((Vec4::from(b[far[2]]) - oz) * iz)
-                .min(Vec4::splat(t_max))
-                * ROUNDING;
-            let mut mask = t0.cmple(t1).bitmask();
-            if mask == 0 {
-                continue;
-            }
-            // Push the hit children farthest first, so the nearest is popped next.
-            let t0 = t0.to_array();
-            let start = top;
-            while mask != 0 {
-                let lane = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let entry = (node.child[lane], node.count[lane], t0[lane]);
-                // Insertion into the pushed run, ordered by decreasing distance.
-                let mut k = top;
-                while k > start && stack[k - 1].2 < entry.2 {
-                    stack[k] = stack[k - 1];
-                    k -= 1;
+            } else {
+                let node = &self.nodes[index];
+                stats.node();
+                let b = &node.bounds;
+                let t0 = ((Vec4::from(b[near[0]]) - ox) * ix)
+                    .max((Vec4::from(b[near[1]]) - oy) * iy)
+                    .max((Vec4::from(b[near[2]]) - oz) * iz)
+                    .max(Vec4::ZERO);
+                let t1 = ((Vec4::from(b[far[0]]) - ox) * ix)
+                    .min((Vec4::from(b[far[1]]) - oy) * iy)
+                    .min((Vec4::from(b[far[2]]) - oz) * iz)
+                    .min(Vec4::splat(t_max))
+                    * ROUNDING;
+                let mut mask = t0.cmple(t1).bitmask();
+                if mask != 0 {
+                    let t0 = t0.to_array();
+                    let entry = |lane: usize| node.child[lane] as u64 | (node.count[lane] as u64) << 32;
+                    let first = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    if mask == 0 {
+                        current = entry(first);
+                        continue;
+                    }
+                    // Push every hit child, keeping the pushed run sorted by decreasing
+                    // distance; then the nearest, on top, becomes the current node.
+                    let start = top;
+                    let mut lane = first;
+                    loop {
+                        let (r, d) = (entry(lane), t0[lane]);
+                        let mut k = top;
+                        // SAFETY: slots below `top` were written.
+                        while k > start && unsafe { dists[k - 1].assume_init() } < d {
+                            refs[k] = refs[k - 1];
+                            dists[k] = dists[k - 1];
+                            k -= 1;
+                        }
+                        refs[k].write(r);
+                        dists[k].write(d);
+                        top += 1;
+                        if mask == 0 {
+                            break;
+                        }
+                        lane = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                    }
+                    top -= 1;
+                    // SAFETY: slot `top` was just written.
+                    current = unsafe { refs[top].assume_init() };
+                    continue;
                 }
-                stack[k] = entry;
-                top += 1;
+            }
+            // Pop the nearest pending subtree that may still hold a closer hit.
+            loop {
+                if top == 0 {
+                    return;
+                }
+                top -= 1;
+                // SAFETY: slots below the old `top` were written.
+                if unsafe { dists[top].assume_init() } <= t_max {
+                    current = unsafe { refs[top].assume_init() };
+                    break;
+                }
             }
         }
     }
@@ -201,9 +244,16 @@ impl<P: PrimitiveSet> Bvh<P> {
     fn closest_hit<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
         let data = self.prims.prepare(ray);
         let mut closest = None;
-        self.traverse(ray, t_max, stats, |leaf, mut t_max, stats| {
-            stats.prims(leaf.len() as u64);
-            for &prim in leaf {
+        self.traverse(ray, t_max, stats, #[inline(always)] |first, count, mut t_max, stats| {
+            stats.prims(count as u64);
+            if self.order.is_empty() {
+                if let Some(hit) = self.prims.intersect_run(first, count, ray, &data, t_max) {
+                    t_max = hit.t;
+                    closest = Some(hit);
+                }
+                return (t_max, false);
+            }
+            for &prim in &self.order[first..first + count] {
                 if let Some(hit) = self.prims.intersect(prim, ray, &data, t_max) {
                     t_max = hit.t;
                     closest = Some(hit);
@@ -234,8 +284,14 @@ impl<P: PrimitiveSet> Traverse for Bvh<P> {
     fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
         let data = self.prims.prepare(ray);
         let mut hit = false;
-        self.traverse(ray, t_max, &mut (), |leaf, t_max, _| {
-            hit = leaf.iter().any(|&prim| self.prims.occluded(prim, ray, &data, t_max));
+        self.traverse(ray, t_max, &mut (), #[inline(always)] |first, count, t_max, _| {
+            hit = if self.order.is_empty() {
+                self.prims.occluded_run(first, count, ray, &data, t_max)
+            } else {
+                self.order[first..first + count]
+                    .iter()
+                    .any(|&prim| self.prims.occluded(prim, ray, &data, t_max))
+            };
             (t_max, hit)
         });
         hit
@@ -313,7 +369,7 @@ const MAX_DEPTH: usize = 40;
 
 /// Builds the subtree over `prims` (which it reorders) at `depth`, its leaves pointing at
 /// `first + index within prims`; returns its nodes, root first.
-fn build(prims: &mut [PrimInfo], first: usize, depth: usize) -> Vec<Node> {
+fn build(prims: &mut [PrimInfo], first: usize, depth: usize, group: usize) -> Vec<Node> {
     let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
     let leaf = |prims: &[PrimInfo]| Node {
         min: bounds.min.into(),
@@ -324,7 +380,7 @@ fn build(prims: &mut [PrimInfo], first: usize, depth: usize) -> Vec<Node> {
     if prims.len() <= 1 || (depth >= MAX_DEPTH && prims.len() <= u16::MAX as usize) {
         return vec![leaf(prims)];
     }
-    let mid = match choose_split(prims, &bounds) {
+    let mid = match choose_split(prims, &bounds, group) {
         Some(mid) => mid,
         None => {
             // A leaf is cheaper, or every centroid coincides: a leaf unless it is too large,
@@ -341,11 +397,14 @@ fn build(prims: &mut [PrimInfo], first: usize, depth: usize) -> Vec<Node> {
     let (left, right) = prims.split_at_mut(mid);
     let (left_nodes, right_nodes) = if left.len() + right.len() > PARALLEL_THRESHOLD {
         rayon::join(
-            || build(left, first, depth + 1),
-            || build(right, first + mid, depth + 1),
+            || build(left, first, depth + 1, group),
+            || build(right, first + mid, depth + 1, group),
         )
     } else {
-        (build(left, first, depth + 1), build(right, first + mid, depth + 1))
+        (
+            build(left, first, depth + 1, group),
+            build(right, first + mid, depth + 1, group),
+        )
     };
     let mut nodes = Vec::with_capacity(1 + left_nodes.len() + right_nodes.len());
     let second = 1 + left_nodes.len();
@@ -369,8 +428,11 @@ fn shift(mut node: Node, by: usize) -> Node {
 }
 
 /// The best binned SAH split: the number of primitives on the left, after partitioning
-/// `prims` in place. `None` when a leaf is cheaper or centroids coincide.
-fn choose_split(prims: &mut [PrimInfo], bounds: &Aabb) -> Option<usize> {
+/// `prims` in place. `None` when a leaf is cheaper or centroids coincide. Primitives are
+/// tested `group` at a time, so a side of `n` costs `ceil(n / group)` tests (as in
+/// Embree's builders for its four-triangle leaves).
+fn choose_split(prims: &mut [PrimInfo], bounds: &Aabb, group: usize) -> Option<usize> {
+    let blocks = |n: usize| n.div_ceil(group) as f32;
     let centroids = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid));
     let axis = centroids.max_axis();
     let (lo, hi) = (centroids.min[axis], centroids.max[axis]);
@@ -403,15 +465,16 @@ fn choose_split(prims: &mut [PrimInfo], bounds: &Aabb) -> Option<usize> {
         if n == 0 || right_count[i + 1] == 0 {
             continue;
         }
-        let cost = acc.surface_area() * n as f32 + right_area[i + 1] * right_count[i + 1] as f32;
+        let cost = acc.surface_area() * blocks(n) + right_area[i + 1] * blocks(right_count[i + 1]);
         if cost < best.0 {
             best = (cost, i);
         }
     }
     let area = bounds.surface_area();
     let split_cost = TRAVERSAL_COST + INTERSECT_COST * best.0 / area.max(f32::MIN_POSITIVE);
-    let leaf_cost = INTERSECT_COST * prims.len() as f32;
-    if !best.0.is_finite() || prims.len() <= MAX_LEAF || split_cost >= leaf_cost && prims.len() <= 2 * MAX_LEAF {
+    let leaf_cost = INTERSECT_COST * blocks(prims.len());
+    let max_leaf = MAX_LEAF.max(group);
+    if !best.0.is_finite() || prims.len() <= max_leaf || split_cost >= leaf_cost && prims.len() <= 2 * max_leaf {
         return None;
     }
     let mut mid = 0;
@@ -422,4 +485,18 @@ fn choose_split(prims: &mut [PrimInfo], bounds: &Aabb) -> Option<usize> {
         }
     }
     Some(mid)
+}
+
+/// Moves every leaf's run of slots to start at a multiple of `group`, filling the gaps with
+/// [`PAD`]; returns the padded order. Leaves are numbered in depth-first order, which is the
+/// order of their runs.
+fn align_leaves(binary: &mut [Node], order: &[u32], group: usize) -> Vec<u32> {
+    let mut padded = Vec::with_capacity(order.len() + order.len() / 2);
+    for node in binary.iter_mut().filter(|n| n.count > 0) {
+        padded.resize(padded.len().next_multiple_of(group), PAD);
+        let run = node.offset as usize..node.offset as usize + node.count as usize;
+        node.offset = padded.len() as u32;
+        padded.extend_from_slice(&order[run]);
+    }
+    padded
 }

@@ -101,6 +101,9 @@ impl Counter for TraversalStats {
     }
 }
 
+/// An empty slot in a [`PrimitiveSet::reordered`] order.
+pub const PAD: u32 = u32::MAX;
+
 /// What an accelerator is built over: indexable primitives with bounds and a ray test.
 pub trait PrimitiveSet: Send + Sync + 'static {
     /// What the primitives' tests need of a ray, computed once per query.
@@ -111,10 +114,49 @@ pub trait PrimitiveSet: Send + Sync + 'static {
         self.len() == 0
     }
     fn bounds(&self, i: u32) -> Aabb;
-    /// The hit of primitive `i` in `(0, t_max)`, with `Hit::prim == i`.
+    /// The hit of primitive `i` in `(0, t_max)`, with `Hit::prim == i` (for a set made by
+    /// [`PrimitiveSet::reordered`], the number `i` had in the original set).
     fn intersect(&self, i: u32, ray: &Ray, data: &Self::RayData, t_max: f32) -> Option<Hit>;
     fn occluded(&self, i: u32, ray: &Ray, data: &Self::RayData, t_max: f32) -> bool {
         self.intersect(i, ray, data, t_max).is_some()
+    }
+    /// A copy whose primitive `k` is primitive `order[k]` of this set (nothing when
+    /// `order[k]` is [`PAD`]), answering hits with the original numbers, when the set can be
+    /// reordered. An accelerator whose leaves hold runs of primitives stores them in leaf
+    /// order, so a leaf's primitives are adjacent in memory and need no index array.
+    fn reordered(&self, _order: &[u32]) -> Option<Self>
+    where
+        Self: Sized,
+    {
+        None
+    }
+    /// How many primitives the set tests at once (its SIMD width). A set with a group above
+    /// one can be [reordered](PrimitiveSet::reordered), and runs that start at multiples of
+    /// the group are tested fastest.
+    fn group(&self) -> usize {
+        1
+    }
+    /// The closest hit among primitives `first..first + count`.
+    #[inline]
+    fn intersect_run(&self, first: usize, count: usize, ray: &Ray, data: &Self::RayData, t_max: f32) -> Option<Hit> {
+        let mut t_max = t_max;
+        let mut closest = None;
+        for i in first..first + count {
+            if let Some(hit) = self.intersect(i as u32, ray, data, t_max) {
+                t_max = hit.t;
+                closest = Some(hit);
+            }
+        }
+        closest
+    }
+    /// Whether any of primitives `first..first + count` is hit.
+    #[inline]
+    fn occluded_run(&self, first: usize, count: usize, ray: &Ray, data: &Self::RayData, t_max: f32) -> bool {
+        (first..first + count).any(|i| self.occluded(i as u32, ray, data, t_max))
+    }
+    /// Bytes of memory the set holds for its primitives' data.
+    fn memory_bytes(&self) -> usize {
+        0
     }
     /// Whether primitive `i` may overlap box `b`: exact for triangles, by bounding box for
     /// the rest (spatial subdivisions store a primitive in each cell it overlaps).

@@ -10,6 +10,7 @@ mod plane;
 mod quad;
 mod sphere;
 pub mod triangle;
+pub mod triangle4;
 pub mod triangle_box;
 
 pub use cuboid::Cuboid;

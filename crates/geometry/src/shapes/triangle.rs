@@ -14,10 +14,14 @@ use penumbra_core::Ray;
 /// floats as with the paper's permute-then-shear, and shared edges stay watertight.
 #[derive(Clone, Copy, Debug)]
 pub struct TriangleRay {
-    origin: Vec3A,
+    pub(crate) origin: Vec3A,
     to_ray: Mat3A,
     /// 1 / (the dominant direction component): scales z' to ray distance.
     sz: f32,
+    /// The axes that become x, y and z.
+    pub(crate) axes: [usize; 3],
+    /// The shear: x' = x + shear.x z, y' = y + shear.y z, and `sz`.
+    pub(crate) shear: Vec3,
 }
 
 impl TriangleRay {
@@ -40,6 +44,8 @@ impl TriangleRay {
             origin: ray.origin.into(),
             to_ray,
             sz,
+            axes: [kx, ky, kz],
+            shear: Vec3::new(sx, sy, sz),
         }
     }
 }
