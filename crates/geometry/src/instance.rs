@@ -50,22 +50,16 @@ impl MeshTriangles {
         self.packets[i as usize / 4].get(i as usize % 4)
     }
 
-    /// Calls `f(packet, lanes)` for the packets holding slots `first..first + count`, `lanes`
-    /// being the mask of the slots' lanes.
+    /// The packets holding slots `first..first + count`, each with the mask of those slots'
+    /// lanes.
     #[inline(always)]
-    fn runs<R>(&self, first: usize, count: usize, mut f: impl FnMut(usize, u32) -> Option<R>) -> Option<R> {
+    fn packets_of(first: usize, count: usize) -> impl Iterator<Item = (usize, u32)> {
         let end = first + count;
-        let mut packet = first / 4;
-        while packet * 4 < end {
+        (first / 4..end.div_ceil(4)).map(move |packet| {
             let lo = first.max(packet * 4) - packet * 4;
             let hi = end.min(packet * 4 + 4) - packet * 4;
-            let lanes = (0b1111u32 >> (4 - hi)) & !((1u32 << lo) - 1);
-            if let Some(r) = f(packet, lanes) {
-                return Some(r);
-            }
-            packet += 1;
-        }
-        None
+            (packet, (0b1111u32 >> (4 - hi)) & !((1u32 << lo) - 1))
+        })
     }
 }
 
@@ -100,7 +94,7 @@ impl PrimitiveSet for MeshTriangles {
     fn intersect_run(&self, first: usize, count: usize, _ray: &Ray, data: &TriangleRay, t_max: f32) -> Option<Hit> {
         let mut t_max = t_max;
         let mut closest = None;
-        self.runs(first, count, |packet, lanes| {
+        for (packet, lanes) in Self::packets_of(first, count) {
             if let Some((lane, t, uv)) = self.packets[packet].closest(data, t_max, lanes) {
                 t_max = t;
                 closest = Some(Hit {
@@ -110,14 +104,12 @@ impl PrimitiveSet for MeshTriangles {
                     uv,
                 });
             }
-            None::<()>
-        });
+        }
         closest
     }
     #[inline(always)]
     fn occluded_run(&self, first: usize, count: usize, _ray: &Ray, data: &TriangleRay, t_max: f32) -> bool {
-        self.runs(first, count, |packet, lanes| self.packets[packet].any(data, t_max, lanes).then_some(()))
-            .is_some()
+        Self::packets_of(first, count).any(|(packet, lanes)| self.packets[packet].any(data, t_max, lanes))
     }
     fn group(&self) -> usize {
         4

@@ -5,22 +5,20 @@
 //! rasterisation) breaks the tie when the ray runs exactly through the edge, so it hits
 //! exactly one of the two triangles.
 
-use glam::{DVec3, Mat3A, Vec2, Vec3, Vec3A};
+use glam::{DVec3, Vec2, Vec3};
 use penumbra_core::Ray;
 
 /// What the watertight test needs of a ray, computed once per ray: the permutation that
-/// makes z the dominant direction followed by the shear that aligns the ray with +z, as one
-/// matrix. The matrix's zero entries add exact zeros, so every vertex maps to the same
-/// floats as with the paper's permute-then-shear, and shared edges stay watertight.
+/// makes z the dominant direction (`axes`) and the shear that aligns the ray with +z. A
+/// vertex `q` maps to `x' = d[kx] + sx d[kz]`, `y' = d[ky] + sy d[kz]`, `z' = d[kz]` with
+/// `d = q - origin`; the scalar and the four-wide tests compute exactly these floats.
 #[derive(Clone, Copy, Debug)]
 pub struct TriangleRay {
-    pub(crate) origin: Vec3A,
-    to_ray: Mat3A,
-    /// 1 / (the dominant direction component): scales z' to ray distance.
-    sz: f32,
+    pub(crate) origin: Vec3,
     /// The axes that become x, y and z.
     pub(crate) axes: [usize; 3],
-    /// The shear: x' = x + shear.x z, y' = y + shear.y z, and `sz`.
+    /// `(sx, sy, sz)`: the shear, and 1 / (the dominant direction component), which scales
+    /// z' to ray distance.
     pub(crate) shear: Vec3,
 }
 
@@ -31,22 +29,20 @@ impl TriangleRay {
         let kx = if kz == 2 { 0 } else { kz + 1 };
         let ky = if kx == 2 { 0 } else { kx + 1 };
         let sz = 1.0 / ray.dir[kz];
-        let (sx, sy) = (-ray.dir[kx] * sz, -ray.dir[ky] * sz);
-        // Rows: x' = q[kx] + sx q[kz], y' = q[ky] + sy q[kz], z' = q[kz].
-        let mut rows = [[0.0f32; 3]; 3];
-        rows[0][kx] = 1.0;
-        rows[0][kz] = sx;
-        rows[1][ky] = 1.0;
-        rows[1][kz] = sy;
-        rows[2][kz] = 1.0;
-        let to_ray = Mat3A::from_cols_array_2d(&rows).transpose();
         TriangleRay {
-            origin: ray.origin.into(),
-            to_ray,
-            sz,
+            origin: ray.origin,
             axes: [kx, ky, kz],
-            shear: Vec3::new(sx, sy, sz),
+            shear: Vec3::new(-ray.dir[kx] * sz, -ray.dir[ky] * sz, sz),
         }
+    }
+
+    /// Vertex `q` in the ray's sheared frame.
+    #[inline(always)]
+    fn to_ray(&self, q: Vec3) -> Vec3 {
+        let [kx, ky, kz] = self.axes;
+        let d = q - self.origin;
+        let dz = d[kz];
+        Vec3::new(d[kx] + self.shear.x * dz, d[ky] + self.shear.y * dz, dz)
     }
 }
 
@@ -60,8 +56,7 @@ pub fn intersect_triangle(ray: &Ray, p: [Vec3; 3], t_max: f32) -> Option<(f32, V
 /// [`intersect_triangle`] with the ray's permutation and shear already computed.
 #[inline]
 pub fn intersect_triangle_prepared(r: &TriangleRay, p: [Vec3; 3], t_max: f32) -> Option<(f32, Vec2)> {
-    let transform = |q: Vec3| Vec3::from(r.to_ray * (Vec3A::from(q) - r.origin));
-    let (p0, p1, p2) = (transform(p[0]), transform(p[1]), transform(p[2]));
+    let (p0, p1, p2) = (r.to_ray(p[0]), r.to_ray(p[1]), r.to_ray(p[2]));
     let mut e0 = p1.x * p2.y - p1.y * p2.x;
     let mut e1 = p2.x * p0.y - p2.y * p0.x;
     let mut e2 = p0.x * p1.y - p0.y * p1.x;
@@ -88,7 +83,7 @@ pub fn intersect_triangle_prepared(r: &TriangleRay, p: [Vec3; 3], t_max: f32) ->
     if !(inside(e0, p1, p2) && inside(e1, p2, p0) && inside(e2, p0, p1)) {
         return None;
     }
-    let sz = r.sz;
+    let sz = r.shear.z;
     let t_scaled = (e0 * p0.z + e1 * p1.z + e2 * p2.z) * sz;
     if det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det) {
         return None;

@@ -8,7 +8,7 @@
 //! test. So the packet answers exactly as four scalar tests would, bit for bit.
 
 use super::triangle::{intersect_triangle_prepared, TriangleRay};
-use glam::{Vec2, Vec3, Vec4};
+use glam::{BVec4A, Vec2, Vec3, Vec4};
 
 /// Four triangles: `v[3 * k + axis]` holds coordinate `axis` of vertex `k`, one triangle per
 /// lane. Unused lanes hold NaN vertices, which no ray hits.
@@ -56,6 +56,24 @@ impl Triangle4 {
     #[inline(always)]
     pub fn closest(&self, r: &TriangleRay, t_max: f32, active: u32) -> Option<LaneHit> {
         let hits = self.test(r, t_max, active);
+        if hits.mask == 0 && hits.fallback == 0 {
+            return None;
+        }
+        // Lanes needing the scalar test, or hit lanes outside `active`: the general path.
+        if hits.fallback != 0 || hits.valid.bitmask() != hits.mask {
+            return self.closest_with_fallback(r, t_max, &hits);
+        }
+        // The smallest distance among the hit lanes, then the lowest lane that has it.
+        let t = Vec4::select(hits.valid, hits.t, Vec4::INFINITY);
+        let t_min = t.min_element();
+        let lane = (t.cmpeq(Vec4::splat(t_min)).bitmask() & hits.mask).trailing_zeros() as usize;
+        Some((lane, t_min, Vec2::new(hits.b1[lane], hits.b2[lane])))
+    }
+
+    /// [`Triangle4::closest`] when some lanes need the scalar test.
+    #[cold]
+    #[inline(never)]
+    fn closest_with_fallback(&self, r: &TriangleRay, t_max: f32, hits: &Lanes) -> Option<LaneHit> {
         let mut best: Option<LaneHit> = None;
         for lane in 0..4 {
             let bit = 1u32 << lane;
@@ -79,18 +97,13 @@ impl Triangle4 {
     #[inline(always)]
     pub fn any(&self, r: &TriangleRay, t_max: f32, active: u32) -> bool {
         let hits = self.test(r, t_max, active);
-        if hits.mask != 0 {
-            return true;
-        }
-        let mut fallback = hits.fallback;
-        while fallback != 0 {
-            let lane = fallback.trailing_zeros() as usize;
-            fallback &= fallback - 1;
-            if intersect_triangle_prepared(r, self.get(lane), t_max).is_some() {
-                return true;
-            }
-        }
-        false
+        hits.mask != 0 || (hits.fallback != 0 && self.any_fallback(r, t_max, hits.fallback))
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn any_fallback(&self, r: &TriangleRay, t_max: f32, lanes: u32) -> bool {
+        (0..4).any(|lane| lanes & (1 << lane) != 0 && intersect_triangle_prepared(r, self.get(lane), t_max).is_some())
     }
 
     /// The SIMD part of the test: lanes hit without needing the scalar fallback, and the
@@ -128,20 +141,25 @@ impl Triangle4 {
         let valid = in_range & t.cmpgt(zero) & t.cmplt(Vec4::splat(t_max));
         Lanes {
             mask: valid.bitmask() & active & !fallback,
+            valid,
             fallback,
-            t: t.to_array(),
-            b1: (e1 * inv_det).to_array(),
-            b2: (e2 * inv_det).to_array(),
+            t,
+            b1: e1 * inv_det,
+            b2: e2 * inv_det,
         }
     }
 }
 
+/// What the SIMD part of the test found: the active lanes hit (`mask`), every lane hit
+/// (`valid`, active or not), the lanes that need the scalar test, and every lane's distance
+/// and barycentrics.
 struct Lanes {
     mask: u32,
+    valid: BVec4A,
     fallback: u32,
-    t: [f32; 4],
-    b1: [f32; 4],
-    b2: [f32; 4],
+    t: Vec4,
+    b1: Vec4,
+    b2: Vec4,
 }
 
 #[cfg(test)]
