@@ -1,13 +1,15 @@
 //! Bounding volume hierarchy: a binned surface-area-heuristic build (Wald, "On fast
 //! Construction of SAH-based Bounding Volume Hierarchies", 2007), run in parallel over
-//! subtrees, then collapsed into a 4-wide tree (as in Embree's BVH4) whose four child
+//! subtrees, then collapsed into an 8-wide tree (as in Embree's BVH8) whose eight child
 //! boxes are tested at once with SIMD slab tests. Traversal visits hit children nearest
 //! first and culls entries farther than the closest hit found; shadow rays stop at the
 //! first hit.
 
 use super::{Counter, PrimitiveSet, Traverse, PAD};
 use crate::Hit;
-use glam::{Vec3, Vec4};
+use glam::Vec3;
+#[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
+use glam::Vec4;
 use penumbra_core::{Aabb, Ray};
 use std::mem::MaybeUninit;
 use std::sync::Arc;
@@ -33,22 +35,25 @@ struct Node {
     count: u16,
 }
 
-/// A 4-wide node: the children's boxes in structure-of-arrays form, one SIMD lane each.
+/// Children per node.
+const WIDTH: usize = 8;
+
+/// A wide node: the children's boxes in structure-of-arrays form, one SIMD lane each.
 /// `bounds[2 * axis]` holds the minima along `axis`, `bounds[2 * axis + 1]` the maxima;
 /// unused lanes hold an empty box that no ray hits.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
-struct Node4 {
-    bounds: [[f32; 4]; 6],
+struct WideNode {
+    bounds: [[f32; WIDTH]; 6],
     /// Interior child: index of its node. Leaf child: its first slot in `order`.
-    child: [u32; 4],
+    child: [u32; WIDTH],
     /// Primitives in a leaf child; 0 for an interior child or an unused lane.
-    count: [u16; 4],
+    count: [u16; WIDTH],
 }
 
 pub struct Bvh<P> {
     prims: Arc<P>,
-    nodes: Vec<Node4>,
+    nodes: Vec<WideNode>,
     /// The primitive in each leaf slot; empty when `prims` is stored in leaf order.
     order: Vec<u32>,
     bounds: Aabb,
@@ -63,9 +68,9 @@ struct PrimInfo {
     index: u32,
 }
 
-/// Largest traversal stack: a 4-wide tree pushes at most 3 entries per level, and the
-/// build caps the depth at `MAX_DEPTH`.
-const STACK: usize = 128;
+/// Largest traversal stack: a node pushes at most `WIDTH - 1` entries, and the build caps
+/// the depth at `MAX_DEPTH`.
+const STACK: usize = (WIDTH - 1) * MAX_DEPTH + 1;
 
 impl<P: PrimitiveSet> Bvh<P> {
     pub fn new(prims: Arc<P>) -> Self {
@@ -119,7 +124,7 @@ impl<P: PrimitiveSet> Bvh<P> {
         }
     }
 
-    /// Number of 4-wide nodes, for statistics.
+    /// Number of wide nodes, for statistics.
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
@@ -147,19 +152,7 @@ impl<P: PrimitiveSet> Bvh<P> {
             return;
         }
         let inv = safe_recip(ray.dir);
-        let (ox, oy, oz) = (
-            Vec4::splat(ray.origin.x),
-            Vec4::splat(ray.origin.y),
-            Vec4::splat(ray.origin.z),
-        );
-        let (ix, iy, iz) = (Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z));
-        // The near plane of each axis is the minimum for a positive direction, else the maximum.
-        let near = [
-            (inv.x < 0.0) as usize,
-            2 + (inv.y < 0.0) as usize,
-            4 + (inv.z < 0.0) as usize,
-        ];
-        let far = [near[0] ^ 1, near[1] ^ 1, near[2] ^ 1];
+        let rs = RaySlabs::new(ray.origin, inv);
         // Pending subtrees (a node, or a leaf with its count in the high half) and their
         // entry distances; only slots below `top` are ever read, so they start uninitialised.
         let mut refs = [MaybeUninit::<u64>::uninit(); STACK];
@@ -178,19 +171,9 @@ impl<P: PrimitiveSet> Bvh<P> {
             } else {
                 let node = &self.nodes[index];
                 stats.node();
-                let b = &node.bounds;
-                let t0 = ((Vec4::from(b[near[0]]) - ox) * ix)
-                    .max((Vec4::from(b[near[1]]) - oy) * iy)
-                    .max((Vec4::from(b[near[2]]) - oz) * iz)
-                    .max(Vec4::ZERO);
-                let t1 = ((Vec4::from(b[far[0]]) - ox) * ix)
-                    .min((Vec4::from(b[far[1]]) - oy) * iy)
-                    .min((Vec4::from(b[far[2]]) - oz) * iz)
-                    .min(Vec4::splat(t_max))
-                    * ROUNDING;
-                let mut mask = t0.cmple(t1).bitmask();
+                let (mask, t0) = slabs(node, &rs, t_max);
+                let mut mask = mask;
                 if mask != 0 {
-                    let t0 = t0.to_array();
                     let entry = |lane: usize| node.child[lane] as u64 | (node.count[lane] as u64) << 32;
                     let first = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
@@ -265,6 +248,85 @@ impl<P: PrimitiveSet> Bvh<P> {
     }
 }
 
+/// What the slab test needs of a ray: origin and inverse direction per axis, and which of
+/// each axis's two planes the ray meets first.
+struct RaySlabs {
+    origin: [f32; 3],
+    inv: [f32; 3],
+    near: [usize; 3],
+}
+
+impl RaySlabs {
+    #[inline(always)]
+    fn new(origin: Vec3, inv: Vec3) -> Self {
+        // The near plane of each axis is the minimum for a positive direction, else the maximum.
+        RaySlabs {
+            origin: origin.into(),
+            inv: inv.into(),
+            near: [
+                (inv.x < 0.0) as usize,
+                2 + (inv.y < 0.0) as usize,
+                4 + (inv.z < 0.0) as usize,
+            ],
+        }
+    }
+}
+
+/// The slab test of a ray against a node's children: the mask of children entered before
+/// `t_max`, and each child's entry distance. Exit distances are widened by `ROUNDING`.
+#[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
+#[inline(always)]
+fn slabs(node: &WideNode, r: &RaySlabs, t_max: f32) -> (u32, [f32; WIDTH]) {
+    use std::arch::x86_64::*;
+    // SAFETY: the target has AVX (checked at compile time) and every load reads a whole
+    // row of eight floats.
+    unsafe {
+        let plane = |k: usize| _mm256_loadu_ps(node.bounds[k].as_ptr());
+        let axis = |a: usize, k: usize| {
+            _mm256_mul_ps(
+                _mm256_sub_ps(plane(k), _mm256_set1_ps(r.origin[a])),
+                _mm256_set1_ps(r.inv[a]),
+            )
+        };
+        let near = _mm256_max_ps(
+            _mm256_max_ps(axis(0, r.near[0]), axis(1, r.near[1])),
+            _mm256_max_ps(axis(2, r.near[2]), _mm256_setzero_ps()),
+        );
+        let far = _mm256_mul_ps(
+            _mm256_min_ps(
+                _mm256_min_ps(axis(0, r.near[0] ^ 1), axis(1, r.near[1] ^ 1)),
+                _mm256_min_ps(axis(2, r.near[2] ^ 1), _mm256_set1_ps(t_max)),
+            ),
+            _mm256_set1_ps(ROUNDING),
+        );
+        let mask = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(near, far)) as u32;
+        let mut t0 = [0.0f32; WIDTH];
+        _mm256_storeu_ps(t0.as_mut_ptr(), near);
+        (mask, t0)
+    }
+}
+
+/// [`slabs`] four lanes at a time.
+#[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
+#[inline(always)]
+fn slabs(node: &WideNode, r: &RaySlabs, t_max: f32) -> (u32, [f32; WIDTH]) {
+    let mut t0 = [0.0f32; WIDTH];
+    let mut mask = 0;
+    for half in 0..WIDTH / 4 {
+        let plane = |k: usize| Vec4::from_slice(&node.bounds[k][4 * half..4 * half + 4]);
+        let axis = |a: usize, k: usize| (plane(k) - Vec4::splat(r.origin[a])) * Vec4::splat(r.inv[a]);
+        let near = axis(0, r.near[0]).max(axis(1, r.near[1])).max(axis(2, r.near[2])).max(Vec4::ZERO);
+        let far = axis(0, r.near[0] ^ 1)
+            .min(axis(1, r.near[1] ^ 1))
+            .min(axis(2, r.near[2] ^ 1))
+            .min(Vec4::splat(t_max))
+            * ROUNDING;
+        mask |= near.cmple(far).bitmask() << (4 * half);
+        near.write_to_slice(&mut t0[4 * half..4 * half + 4]);
+    }
+    (mask, t0)
+}
+
 /// `1 / dir`, with zero components replaced by tiny ones of the same sign so that slab
 /// distances are never NaN.
 #[inline]
@@ -303,18 +365,18 @@ impl<P: PrimitiveSet> Traverse for Bvh<P> {
 
     fn bytes(&self) -> usize {
         std::mem::size_of::<Self>()
-            + self.nodes.capacity() * std::mem::size_of::<Node4>()
+            + self.nodes.capacity() * std::mem::size_of::<WideNode>()
             + self.order.capacity() * std::mem::size_of::<u32>()
     }
 }
 
-/// Collapses the binary subtree at `index` into 4-wide nodes appended to `out`; returns the
-/// index of its node. Each node adopts up to four descendants by repeatedly opening the
+/// Collapses the binary subtree at `index` into wide nodes appended to `out`; returns the
+/// index of its node. Each node adopts up to `WIDTH` descendants by repeatedly opening the
 /// interior child with the largest surface area.
-fn collapse(binary: &[Node], index: usize, out: &mut Vec<Node4>) -> u32 {
+fn collapse(binary: &[Node], index: usize, out: &mut Vec<WideNode>) -> u32 {
     let node = &binary[index];
     let mut children: Vec<usize> = vec![index + 1, node.offset as usize];
-    while children.len() < 4 {
+    while children.len() < WIDTH {
         let open = children
             .iter()
             .enumerate()
@@ -326,17 +388,17 @@ fn collapse(binary: &[Node], index: usize, out: &mut Vec<Node4>) -> u32 {
         children.push(binary[c].offset as usize);
     }
     let me = out.len();
-    out.push(Node4 {
+    out.push(WideNode {
         bounds: [
-            [f32::INFINITY; 4],
-            [f32::NEG_INFINITY; 4],
-            [f32::INFINITY; 4],
-            [f32::NEG_INFINITY; 4],
-            [f32::INFINITY; 4],
-            [f32::NEG_INFINITY; 4],
+            [f32::INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
         ],
-        child: [0; 4],
-        count: [0; 4],
+        child: [0; WIDTH],
+        count: [0; WIDTH],
     });
     for (lane, &c) in children.iter().enumerate() {
         let n = &binary[c];
