@@ -95,7 +95,7 @@ fn measure(accel: &dyn Accel, kind: AccelKind, set: &RaySet, repeats: usize, pri
         .map(|_| {
             let start = Instant::now();
             let hits = rays
-                .par_chunks(1024)
+                .par_chunks(rays.len().div_ceil(rayon::current_num_threads() * 8).max(1))
                 .map(|c| c.iter().filter(|r| accel.intersect(r, f32::INFINITY).is_some()).count())
                 .sum::<usize>();
             std::hint::black_box(hits);
