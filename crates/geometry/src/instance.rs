@@ -8,6 +8,7 @@ use crate::shapes::triangle_box::triangle_overlaps_box;
 use crate::{Hit, Placement, TriangleMesh};
 use glam::{Vec2, Vec3};
 use penumbra_core::{Aabb, Ray, Transform};
+use rayon::prelude::*;
 use std::sync::Arc;
 
 /// The triangles of one mesh as a primitive set, their vertices stored in packets of four
@@ -115,12 +116,18 @@ impl PrimitiveSet for MeshTriangles {
         4
     }
     fn reordered(&self, order: &[u32]) -> Option<Self> {
-        let mut packets = vec![Triangle4::EMPTY; order.len().div_ceil(4)];
-        for (slot, &i) in order.iter().enumerate() {
-            if i != PAD {
-                packets[slot / 4].set(slot % 4, self.triangle(i));
-            }
-        }
+        let packets = order
+            .par_chunks(4)
+            .map(|slots| {
+                let mut packet = Triangle4::EMPTY;
+                for (lane, &i) in slots.iter().enumerate() {
+                    if i != PAD {
+                        packet.set(lane, self.triangle(i));
+                    }
+                }
+                packet
+            })
+            .collect();
         Some(MeshTriangles {
             mesh: self.mesh.clone(),
             packets,

@@ -11,6 +11,7 @@ use glam::Vec3;
 #[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
 use glam::Vec4;
 use penumbra_core::{Aabb, Ray};
+use rayon::prelude::*;
 use std::mem::MaybeUninit;
 use std::sync::Arc;
 
@@ -33,6 +34,16 @@ struct Node {
     offset: u32,
     max: [f32; 3],
     count: u16,
+}
+
+impl Node {
+    /// A slot no subtree used (subtrees reserve room for their largest possible size).
+    const UNUSED: Node = Node {
+        min: [0.0; 3],
+        offset: 0,
+        max: [0.0; 3],
+        count: 0,
+    };
 }
 
 /// Children per node.
@@ -75,6 +86,7 @@ const STACK: usize = (WIDTH - 1) * MAX_DEPTH + 1;
 impl<P: PrimitiveSet> Bvh<P> {
     pub fn new(prims: Arc<P>) -> Self {
         let mut info: Vec<PrimInfo> = (0..prims.len() as u32)
+            .into_par_iter()
             .map(|index| {
                 let bounds = prims.bounds(index);
                 PrimInfo {
@@ -85,11 +97,12 @@ impl<P: PrimitiveSet> Bvh<P> {
             })
             .collect();
         let group = prims.group().max(1);
-        let mut binary = if info.is_empty() {
-            Vec::new()
-        } else {
-            build(&mut info, 0, 0, group)
-        };
+        // A subtree over n primitives has at most 2n - 1 nodes: each subtree builds into its
+        // own range of one array, so the threads never copy or merge node lists.
+        let mut binary = vec![Node::UNUSED; (2 * info.len()).saturating_sub(1)];
+        if !info.is_empty() {
+            build(&mut info, 0, 0, group, &mut binary, 0);
+        }
         let mut order: Vec<u32> = info.iter().map(|p| p.index).collect();
         if group > 1 {
             order = align_leaves(&mut binary, &order, group);
@@ -393,18 +406,20 @@ impl<P: PrimitiveSet> Traverse for Bvh<P> {
 /// interior child with the largest surface area.
 fn collapse(binary: &[Node], index: usize, out: &mut Vec<WideNode>) -> u32 {
     let node = &binary[index];
-    let mut children: Vec<usize> = vec![index + 1, node.offset as usize];
-    while children.len() < WIDTH {
-        let open = children
-            .iter()
-            .enumerate()
-            .filter(|(_, &c)| binary[c].count == 0)
-            .max_by(|a, b| area(&binary[*a.1]).total_cmp(&area(&binary[*b.1])));
-        let Some((k, &c)) = open else { break };
-        children.swap_remove(k);
-        children.push(c + 1);
-        children.push(binary[c].offset as usize);
+    let mut children = [0usize; WIDTH];
+    children[..2].copy_from_slice(&[index + 1, node.offset as usize]);
+    let mut len = 2;
+    while len < WIDTH {
+        let open = (0..len)
+            .filter(|&k| binary[children[k]].count == 0)
+            .max_by(|&a, &b| area(&binary[children[a]]).total_cmp(&area(&binary[children[b]])));
+        let Some(k) = open else { break };
+        let c = children[k];
+        children[k] = c + 1;
+        children[len] = binary[c].offset as usize;
+        len += 1;
     }
+    let children = &children[..len];
     let me = out.len();
     out.push(WideNode {
         bounds: [
@@ -447,18 +462,21 @@ fn area(n: &Node) -> f32 {
 /// Binary tree depth beyond which the build makes leaves, keeping traversal stacks bounded.
 const MAX_DEPTH: usize = 40;
 
-/// Builds the subtree over `prims` (which it reorders) at `depth`, its leaves pointing at
-/// `first + index within prims`; returns its nodes, root first.
-fn build(prims: &mut [PrimInfo], first: usize, depth: usize, group: usize) -> Vec<Node> {
-    let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
-    let leaf = |prims: &[PrimInfo]| Node {
+/// Builds the subtree over `prims` (which it reorders) at `depth` into `out`, its root at
+/// `out[0]` (index `base` of the whole array), its first child right after it and its
+/// second child after the first child's range; leaves point at `first + index within
+/// prims`. `out` has room for `2 * prims.len() - 1` nodes.
+fn build(prims: &mut [PrimInfo], first: usize, depth: usize, group: usize, out: &mut [Node], base: usize) {
+    let bounds = fold(prims, Aabb::EMPTY, |b, p| *b = b.union(p.bounds), Aabb::union);
+    let leaf = Node {
         min: bounds.min.into(),
         offset: first as u32,
         max: bounds.max.into(),
         count: prims.len() as u16,
     };
     if prims.len() <= 1 || (depth >= MAX_DEPTH && prims.len() <= u16::MAX as usize) {
-        return vec![leaf(prims)];
+        out[0] = leaf;
+        return;
     }
     let mid = match choose_split(prims, &bounds, group) {
         Some(mid) => mid,
@@ -466,7 +484,8 @@ fn build(prims: &mut [PrimInfo], first: usize, depth: usize, group: usize) -> Ve
             // A leaf is cheaper, or every centroid coincides: a leaf unless it is too large,
             // in which case halve the set by index.
             if prims.len() <= MAX_COINCIDENT_LEAF {
-                return vec![leaf(prims)];
+                out[0] = leaf;
+                return;
             }
             let axis = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid)).max_axis();
             let mid = prims.len() / 2;
@@ -474,37 +493,47 @@ fn build(prims: &mut [PrimInfo], first: usize, depth: usize, group: usize) -> Ve
             mid
         }
     };
-    let (left, right) = prims.split_at_mut(mid);
-    let (left_nodes, right_nodes) = if left.len() + right.len() > PARALLEL_THRESHOLD {
-        rayon::join(
-            || build(left, first, depth + 1, group),
-            || build(right, first + mid, depth + 1, group),
-        )
-    } else {
-        (
-            build(left, first, depth + 1, group),
-            build(right, first + mid, depth + 1, group),
-        )
-    };
-    let mut nodes = Vec::with_capacity(1 + left_nodes.len() + right_nodes.len());
-    let second = 1 + left_nodes.len();
-    nodes.push(Node {
+    let second = 2 * mid;
+    out[0] = Node {
         min: bounds.min.into(),
-        offset: second as u32,
+        offset: (base + second) as u32,
         max: bounds.max.into(),
         count: 0,
-    });
-    nodes.extend(left_nodes.into_iter().map(|n| shift(n, 1)));
-    nodes.extend(right_nodes.into_iter().map(|n| shift(n, second)));
-    nodes
+    };
+    let parallel = mid.min(prims.len() - mid) > PARALLEL_THRESHOLD / 2;
+    let (left, right) = prims.split_at_mut(mid);
+    let (left_out, right_out) = out[1..].split_at_mut(second - 1);
+    let mut build_left = move || build(left, first, depth + 1, group, left_out, base + 1);
+    let mut build_right = move || build(right, first + mid, depth + 1, group, right_out, base + second);
+    if parallel {
+        rayon::join(build_left, build_right);
+    } else {
+        build_left();
+        build_right();
+    }
 }
 
-/// Moves a subtree's node by `by` slots: interior nodes' second-child index follows.
-fn shift(mut node: Node, by: usize) -> Node {
-    if node.count == 0 {
-        node.offset += by as u32;
+/// Accumulates `prims` into `init` with `add`, in parallel chunks combined by `merge` when
+/// there are many.
+#[inline]
+fn fold<T: Copy + Send + Sync>(
+    prims: &[PrimInfo],
+    init: T,
+    add: impl Fn(&mut T, &PrimInfo) + Sync,
+    merge: impl Fn(T, T) -> T + Sync,
+) -> T {
+    let serial = |chunk: &[PrimInfo]| {
+        let mut acc = init;
+        for p in chunk {
+            add(&mut acc, p);
+        }
+        acc
+    };
+    if prims.len() > PARALLEL_THRESHOLD * 4 {
+        prims.par_chunks(PARALLEL_THRESHOLD).map(serial).reduce(|| init, &merge)
+    } else {
+        serial(prims)
     }
-    node
 }
 
 /// The best binned SAH split: the number of primitives on the left, after partitioning
@@ -513,7 +542,7 @@ fn shift(mut node: Node, by: usize) -> Node {
 /// Embree's builders for its four-triangle leaves).
 fn choose_split(prims: &mut [PrimInfo], bounds: &Aabb, group: usize) -> Option<usize> {
     let blocks = |n: usize| n.div_ceil(group) as f32;
-    let centroids = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid));
+    let centroids = fold(prims, Aabb::EMPTY, |b, p| *b = b.grow(p.centroid), Aabb::union);
     let axis = centroids.max_axis();
     let (lo, hi) = (centroids.min[axis], centroids.max[axis]);
     if hi <= lo {
@@ -521,12 +550,21 @@ fn choose_split(prims: &mut [PrimInfo], bounds: &Aabb, group: usize) -> Option<u
     }
     let scale = BINS as f32 / (hi - lo);
     let bin_of = |p: &PrimInfo| (((p.centroid[axis] - lo) * scale) as usize).min(BINS - 1);
-    let mut bins = [(Aabb::EMPTY, 0usize); BINS];
-    for p in prims.iter() {
-        let b = &mut bins[bin_of(p)];
-        b.0 = b.0.union(p.bounds);
-        b.1 += 1;
-    }
+    let bins = fold(
+        prims,
+        [(Aabb::EMPTY, 0usize); BINS],
+        |bins, p| {
+            let b = &mut bins[bin_of(p)];
+            b.0 = b.0.union(p.bounds);
+            b.1 += 1;
+        },
+        |mut a, b| {
+            for (a, b) in a.iter_mut().zip(b) {
+                *a = (a.0.union(b.0), a.1 + b.1);
+            }
+            a
+        },
+    );
     // Sweep from the right to get the cost of every right part, then from the left.
     let mut right_area = [0.0f32; BINS];
     let mut right_count = [0usize; BINS];
