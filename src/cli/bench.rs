@@ -84,6 +84,15 @@ pub fn run(command: BenchCommand) -> Result<(), Failure> {
                 penumbra::scene::formats::obj::load(&args.input)
             }
             .map_err(|e| bad(format!("cannot load {}: {e}", args.input.display())))?;
+            let mut mesh = mesh;
+            let total = mesh.indices.len();
+            let dropped = mesh.remove_degenerate();
+            if dropped > 0 {
+                eprintln!(
+                    "warning: {}: skipped {dropped} of {total} triangles with zero area",
+                    args.input.display()
+                );
+            }
             let triangles = mesh.indices.len();
             let prims = Arc::new(MeshTriangles::new(Arc::new(mesh)));
             let bounds = bounds_of(prims.as_ref());

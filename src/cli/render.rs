@@ -83,6 +83,9 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
         None => penumbra::default_scene(),
     };
     apply_overrides(&mut desc, &args)?;
+    for warning in &desc.warnings {
+        eprintln!("warning: {warning}");
+    }
 
     let cancel = Arc::new(AtomicBool::new(false));
     {

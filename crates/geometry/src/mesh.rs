@@ -14,7 +14,7 @@ pub struct TriangleMesh {
 }
 
 /// Why a mesh is unusable.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum MeshError {
     IndexOutOfRange {
         triangle: usize,
@@ -29,7 +29,15 @@ pub enum MeshError {
     NonFinitePosition {
         vertex: usize,
     },
+    HugePosition {
+        vertex: usize,
+        value: f32,
+    },
 }
+
+/// Largest coordinate magnitude a mesh may have: beyond it, box extents and the products
+/// in the intersection tests overflow single precision.
+pub const MAX_COORDINATE: f32 = 1e30;
 
 impl std::fmt::Display for MeshError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -52,6 +60,10 @@ impl std::fmt::Display for MeshError {
                 write!(f, "the mesh has {vertices} vertices but {found} {attribute}")
             }
             MeshError::NonFinitePosition { vertex } => write!(f, "vertex {vertex} is not a finite number"),
+            MeshError::HugePosition { vertex, value } => write!(
+                f,
+                "vertex {vertex} has the coordinate {value:e}, beyond the supported ±{MAX_COORDINATE:e}; scale the scene down"
+            ),
         }
     }
 }
@@ -64,6 +76,14 @@ impl TriangleMesh {
         let vertices = self.positions.len();
         if let Some(vertex) = self.positions.iter().position(|p| !p.is_finite()) {
             return Err(MeshError::NonFinitePosition { vertex });
+        }
+        if let Some(vertex) = self
+            .positions
+            .iter()
+            .position(|p| p.abs().max_element() > MAX_COORDINATE)
+        {
+            let value = self.positions[vertex].abs().max_element();
+            return Err(MeshError::HugePosition { vertex, value });
         }
         for (attribute, found) in [
             ("normals", self.normals.as_ref().map(Vec::len)),
@@ -123,6 +143,19 @@ impl TriangleMesh {
         self.normals = Some(normals.into_iter().map(Vec3::normalize_or_zero).collect());
     }
 
+    /// Drops the triangles with zero area (repeated or collinear vertices), which no ray can
+    /// hit and which have no normal; returns how many were dropped. The area is computed in
+    /// double precision, so tiny but proper triangles are kept.
+    pub fn remove_degenerate(&mut self) -> usize {
+        let before = self.indices.len();
+        let positions = &self.positions;
+        self.indices.retain(|idx| {
+            let [a, b, c] = idx.map(|i| positions[i as usize].as_dvec3());
+            (b - a).cross(c - a) != glam::DVec3::ZERO
+        });
+        before - self.indices.len()
+    }
+
     pub fn vertices(&self, tri: usize) -> [Vec3; 3] {
         self.indices[tri].map(|i| self.positions[i as usize])
     }
@@ -170,5 +203,29 @@ mod tests {
         m.indices = vec![[0, 1, 2]];
         m.uvs = Some(vec![glam::Vec2::ZERO; 2]);
         assert!(matches!(m.validate(), Err(MeshError::AttributeCount { found: 2, .. })));
+    }
+
+    #[test]
+    fn degenerate_triangles_are_removed_and_counted() {
+        let mut m = TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::X * 2.0, Vec3::splat(1e-20)],
+            // A proper one, a collinear one, a repeated index, a tiny proper one.
+            indices: vec![[0, 1, 2], [0, 1, 3], [2, 2, 1], [0, 4, 2]],
+            ..Default::default()
+        };
+        assert_eq!(m.remove_degenerate(), 2);
+        assert_eq!(m.indices, vec![[0, 1, 2], [0, 4, 2]]);
+    }
+
+    #[test]
+    fn huge_coordinates_are_an_error() {
+        let m = TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X * 3e38, Vec3::Y],
+            indices: vec![[0, 1, 2]],
+            ..Default::default()
+        };
+        let e = m.validate().unwrap_err();
+        assert!(matches!(e, MeshError::HugePosition { vertex: 1, .. }), "{e}");
+        assert!(e.to_string().contains("vertex 1"), "{e}");
     }
 }

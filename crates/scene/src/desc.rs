@@ -22,6 +22,8 @@ pub struct SceneDesc {
     pub meshes: Vec<Arc<TriangleMesh>>,
     pub shapes: Vec<ShapeDesc>,
     pub lights: Vec<LightDesc>,
+    /// What the reader skipped or changed, for the user: each names the place in the file.
+    pub warnings: Vec<String>,
 }
 
 /// Image and sampling settings; the command line may override them.
@@ -165,6 +167,7 @@ impl SceneDesc {
             meshes: Vec::new(),
             shapes: Vec::new(),
             lights: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 }

@@ -160,18 +160,65 @@ fn large_meshes_built_in_parallel_agree() {
         mesh.indices.push([3 * i, 3 * i + 1, 3 * i + 2]);
     }
     let mut b = GeometryBuilder::new();
+    b.add_mesh(mesh.clone());
+    let g = Arc::new(b.build());
+    let reference = g.accel(AccelKind::List);
+    // The same triangles as one mesh's own primitive set too: the BVH then stores them in
+    // leaf order, in packets of four tested at once.
+    let mesh = Arc::new(mesh);
+    for kind in AccelKind::ALL {
+        let flat = g.accel(kind);
+        let packed = build_accel(kind, Arc::new(crate::instance::MeshTriangles::new(mesh.clone())));
+        for _ in 0..300 {
+            let ray = random_ray(&mut rng);
+            let want = reference.intersect(&ray, f32::INFINITY);
+            for accel in [&flat, &packed] {
+                let got = accel.intersect(&ray, f32::INFINITY);
+                assert_eq!(want.map(|h| h.t), got.map(|h| h.t), "{kind:?} {ray:?}");
+                assert_eq!(want.map(|h| h.prim), got.map(|h| h.prim), "{kind:?} {ray:?}");
+                assert_eq!(want.is_some(), accel.occluded(&ray, f32::INFINITY), "{kind:?} {ray:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn huge_coordinates_and_degenerate_triangles_neither_panic_nor_loop() {
+    // A tiny mesh beside triangles 1e30 across, collinear and single-point triangles, and one
+    // spanning the float range: every accelerator builds and answers like brute force.
+    let mut rng = Pcg32::new(5, 0);
+    let mut mesh = random_mesh(&mut rng, 50);
+    let n = mesh.positions.len() as u32;
+    mesh.positions.extend([
+        Vec3::new(-1e30, 0.0, -1e30),
+        Vec3::new(1e30, 0.0, -1e30),
+        Vec3::new(0.0, 1e30, 1e30),
+        Vec3::new(1.0, 1.0, 1.0),
+        Vec3::new(2.0, 2.0, 2.0),
+        Vec3::new(3.0, 3.0, 3.0),
+        Vec3::new(-3e38, -3e38, 0.0),
+        Vec3::new(3e38, -3e38, 0.0),
+        Vec3::new(0.0, 3e38, 0.0),
+    ]);
+    mesh.indices
+        .extend([[n, n + 1, n + 2], [n + 3, n + 4, n + 5], [n + 3, n + 3, n + 3]]);
+    let mut b = GeometryBuilder::new();
     b.add_mesh(mesh);
     let g = Arc::new(b.build());
     let reference = g.accel(AccelKind::List);
     for kind in AccelKind::ALL {
         let accel = g.accel(kind);
-        for _ in 0..300 {
+        for _ in 0..200 {
             let ray = random_ray(&mut rng);
-            let (a, b) = (
+            let (want, got) = (
                 reference.intersect(&ray, f32::INFINITY),
                 accel.intersect(&ray, f32::INFINITY),
             );
-            assert_eq!(a.map(|h| h.t), b.map(|h| h.t), "{kind:?} {ray:?}");
+            assert_eq!(
+                want.map(|h| (h.prim, h.t)),
+                got.map(|h| (h.prim, h.t)),
+                "{kind:?} {ray:?}"
+            );
         }
     }
 }

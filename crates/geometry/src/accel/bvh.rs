@@ -243,23 +243,29 @@ impl<P: PrimitiveSet> Bvh<P> {
     fn closest_hit<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
         let data = self.prims.prepare(ray);
         let mut closest = None;
-        self.traverse(ray, t_max, stats, #[inline(always)] |first, count, mut t_max, stats| {
-            stats.prims(count as u64);
-            if self.order.is_empty() {
-                if let Some(hit) = self.prims.intersect_run(first, count, ray, &data, t_max) {
-                    t_max = hit.t;
-                    closest = Some(hit);
+        self.traverse(
+            ray,
+            t_max,
+            stats,
+            #[inline(always)]
+            |first, count, mut t_max, stats| {
+                stats.prims(count as u64);
+                if self.order.is_empty() {
+                    if let Some(hit) = self.prims.intersect_run(first, count, ray, &data, t_max) {
+                        t_max = hit.t;
+                        closest = Some(hit);
+                    }
+                    return (t_max, false);
                 }
-                return (t_max, false);
-            }
-            for &prim in &self.order[first..first + count] {
-                if let Some(hit) = self.prims.intersect(prim, ray, &data, t_max) {
-                    t_max = hit.t;
-                    closest = Some(hit);
+                for &prim in &self.order[first..first + count] {
+                    if let Some(hit) = self.prims.intersect(prim, ray, &data, t_max) {
+                        t_max = hit.t;
+                        closest = Some(hit);
+                    }
                 }
-            }
-            (t_max, false)
-        });
+                (t_max, false)
+            },
+        );
         closest
     }
 }
@@ -346,7 +352,10 @@ fn slabs(node: &WideNode, r: &RaySlabs, t_max: f32) -> (u32, [f32; WIDTH]) {
     for half in 0..WIDTH / 4 {
         let plane = |k: usize| Vec4::from_slice(&node.bounds[k][4 * half..4 * half + 4]);
         let axis = |a: usize, k: usize| (plane(k) - Vec4::splat(r.origin[a])) * Vec4::splat(r.inv[a]);
-        let near = axis(0, r.near[0]).max(axis(1, r.near[1])).max(axis(2, r.near[2])).max(Vec4::ZERO);
+        let near = axis(0, r.near[0])
+            .max(axis(1, r.near[1]))
+            .max(axis(2, r.near[2]))
+            .max(Vec4::ZERO);
         let far = axis(0, r.near[0] ^ 1)
             .min(axis(1, r.near[1] ^ 1))
             .min(axis(2, r.near[2] ^ 1))
@@ -377,16 +386,22 @@ impl<P: PrimitiveSet> Traverse for Bvh<P> {
     fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
         let data = self.prims.prepare(ray);
         let mut hit = false;
-        self.traverse(ray, t_max, &mut (), #[inline(always)] |first, count, t_max, _| {
-            hit = if self.order.is_empty() {
-                self.prims.occluded_run(first, count, ray, &data, t_max)
-            } else {
-                self.order[first..first + count]
-                    .iter()
-                    .any(|&prim| self.prims.occluded(prim, ray, &data, t_max))
-            };
-            (t_max, hit)
-        });
+        self.traverse(
+            ray,
+            t_max,
+            &mut (),
+            #[inline(always)]
+            |first, count, t_max, _| {
+                hit = if self.order.is_empty() {
+                    self.prims.occluded_run(first, count, ray, &data, t_max)
+                } else {
+                    self.order[first..first + count]
+                        .iter()
+                        .any(|&prim| self.prims.occluded(prim, ray, &data, t_max))
+                };
+                (t_max, hit)
+            },
+        );
         hit
     }
 

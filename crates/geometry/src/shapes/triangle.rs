@@ -38,7 +38,7 @@ impl TriangleRay {
 
     /// Vertex `q` in the ray's sheared frame.
     #[inline(always)]
-    fn to_ray(&self, q: Vec3) -> Vec3 {
+    fn sheared(&self, q: Vec3) -> Vec3 {
         let [kx, ky, kz] = self.axes;
         let d = q - self.origin;
         let dz = d[kz];
@@ -56,7 +56,7 @@ pub fn intersect_triangle(ray: &Ray, p: [Vec3; 3], t_max: f32) -> Option<(f32, V
 /// [`intersect_triangle`] with the ray's permutation and shear already computed.
 #[inline]
 pub fn intersect_triangle_prepared(r: &TriangleRay, p: [Vec3; 3], t_max: f32) -> Option<(f32, Vec2)> {
-    let (p0, p1, p2) = (r.to_ray(p[0]), r.to_ray(p[1]), r.to_ray(p[2]));
+    let (p0, p1, p2) = (r.sheared(p[0]), r.sheared(p[1]), r.sheared(p[2]));
     let mut e0 = p1.x * p2.y - p1.y * p2.x;
     let mut e1 = p2.x * p0.y - p2.y * p0.x;
     let mut e2 = p0.x * p1.y - p0.y * p1.x;

@@ -23,9 +23,7 @@ pub type LaneHit = (usize, f32, Vec2);
 
 impl Triangle4 {
     /// Four empty lanes.
-    pub const EMPTY: Triangle4 = Triangle4 {
-        v: [Vec4::NAN; 9],
-    };
+    pub const EMPTY: Triangle4 = Triangle4 { v: [Vec4::NAN; 9] };
 
     /// Packs `triangles` (at most four) into lanes `0..triangles.len()`.
     pub fn pack(triangles: &[[Vec3; 3]]) -> Self {
@@ -186,7 +184,7 @@ mod tests {
         let (mut hits, mut fallbacks) = (0, 0);
         for case in 0..50_000 {
             let on_grid = case % 2 == 1;
-            let mut random_point = |rng: &mut Pcg32| if on_grid { grid_point(rng) } else { random_point(rng) };
+            let random_point = |rng: &mut Pcg32| if on_grid { grid_point(rng) } else { random_point(rng) };
             let shared = random_point(&mut rng);
             let mut tris = Vec::new();
             let n = 1 + (case % 4);

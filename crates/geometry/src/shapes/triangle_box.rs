@@ -5,21 +5,28 @@
 use glam::Vec3;
 use penumbra_core::Aabb;
 
-/// Whether triangle `v` and box `b` share a point (touching counts).
+/// Whether triangle `v` and box `b` may share a point (touching counts). Accelerators use
+/// the answer to leave a triangle out of a cell, so it errs towards overlap: an axis
+/// separates only by more than the test's rounding error (a relative slack of `SLACK` of
+/// the coordinates' magnitude), which matters for tiny triangles in huge cells.
 pub fn triangle_overlaps_box(v: [Vec3; 3], b: &Aabb) -> bool {
     let c = b.centroid();
     let h = 0.5 * (b.max - b.min);
     let [v0, v1, v2] = v.map(|p| p - c);
-    // The box's face normals: the triangle's bounds against the box.
     let lo = v0.min(v1).min(v2);
     let hi = v0.max(v1).max(v2);
-    if lo.cmpgt(h).any() || hi.cmplt(-h).any() {
+    let scale = c.abs().max_element() + h.max_element() + lo.abs().max(hi.abs()).max_element();
+    // The slack for projections on axis `a`.
+    let slack = |a: Vec3| SLACK * scale * (a.x.abs() + a.y.abs() + a.z.abs());
+    // The box's face normals: the triangle's bounds against the box.
+    let s = SLACK * scale;
+    if lo.cmpgt(h + s).any() || hi.cmplt(-h - s).any() {
         return false;
     }
     // The triangle's plane against the box.
     let e = [v1 - v0, v2 - v1, v0 - v2];
     let n = e[0].cross(e[1]);
-    let r = h.dot(n.abs());
+    let r = h.dot(n.abs()) + slack(n);
     let d = n.dot(v0);
     if d > r || d < -r {
         return false;
@@ -32,7 +39,7 @@ pub fn triangle_overlaps_box(v: [Vec3; 3], b: &Aabb) -> bool {
                 continue;
             }
             let (p0, p1, p2) = (a.dot(v0), a.dot(v1), a.dot(v2));
-            let r = h.dot(a.abs());
+            let r = h.dot(a.abs()) + slack(a);
             if p0.min(p1).min(p2) > r || p0.max(p1).max(p2) < -r {
                 return false;
             }
@@ -40,6 +47,9 @@ pub fn triangle_overlaps_box(v: [Vec3; 3], b: &Aabb) -> bool {
     }
     true
 }
+
+/// Relative rounding slack of [`triangle_overlaps_box`]: about a hundred float epsilons.
+const SLACK: f32 = 1e-5;
 
 #[cfg(test)]
 mod tests {

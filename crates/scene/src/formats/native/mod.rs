@@ -37,9 +37,10 @@ pub fn read(file: &Arc<SourceFile>) -> Result<SceneDesc> {
         t.finish()?;
     }
     let materials = material::read_all(&top.tables("material")?)?;
-    let meshes = shape::read_meshes(file, &top.tables("mesh")?)?;
+    let meshes = shape::read_meshes(file, &top.tables("mesh")?, &mut desc.warnings)?;
     for t in top.tables("shape")? {
-        desc.shapes.push(shape::read(file, &t, &materials, &meshes)?);
+        desc.shapes
+            .push(shape::read(file, &t, &materials, &meshes, &mut desc.warnings)?);
         t.finish()?;
     }
     desc.materials = materials;

@@ -18,7 +18,11 @@ use std::sync::Arc;
 const SHAPES: [&str; 7] = ["sphere", "plane", "quad", "disk", "box", "mesh", "instance"];
 
 /// Reads the `[[mesh]]` tables: named meshes for instancing.
-pub fn read_meshes(file: &Arc<SourceFile>, tables: &[Table]) -> Result<Vec<(String, Arc<TriangleMesh>)>> {
+pub fn read_meshes(
+    file: &Arc<SourceFile>,
+    tables: &[Table],
+    warnings: &mut Vec<String>,
+) -> Result<Vec<(String, Arc<TriangleMesh>)>> {
     let mut out: Vec<(String, Arc<TriangleMesh>)> = Vec::new();
     for t in tables {
         let name_value = t.require("name")?;
@@ -28,7 +32,7 @@ pub fn read_meshes(file: &Arc<SourceFile>, tables: &[Table]) -> Result<Vec<(Stri
                 .error(format!("mesh `{name}` is defined twice"))
                 .label("second definition"));
         }
-        let mesh = mesh_source(file, t)?;
+        let mesh = mesh_source(file, t, &format!("mesh `{name}`"), warnings)?;
         t.finish()?;
         out.push((name, Arc::new(mesh)));
     }
@@ -40,6 +44,7 @@ pub fn read(
     t: &Table,
     materials: &[MaterialDesc],
     meshes: &[(String, Arc<TriangleMesh>)],
+    warnings: &mut Vec<String>,
 ) -> Result<ShapeDesc> {
     let kind_value = t.require("type")?;
     let kind = choice(&kind_value, "shape type", &SHAPES, |s| {
@@ -83,7 +88,7 @@ pub fn read(
             }
             ShapeKind::Box { min, max }
         }
-        "mesh" => ShapeKind::Mesh(Arc::new(mesh_source(file, t)?)),
+        "mesh" => ShapeKind::Mesh(Arc::new(mesh_source(file, t, "mesh shape", warnings)?)),
         _ => {
             let v = t.require("mesh")?;
             let name = v.str()?;
@@ -139,12 +144,24 @@ fn nonzero(t: &Table, key: &str, default: Vec3) -> Result<Vec3> {
 
 /// A mesh from `file = "..."` (OBJ or PLY) or inline `positions`, `indices` and optional
 /// `normals` and `uvs`; `smooth = true` gives a mesh without normals smooth ones.
-fn mesh_source(file: &Arc<SourceFile>, t: &Table) -> Result<TriangleMesh> {
+/// Triangles without area are dropped with a warning naming the mesh (`what`).
+fn mesh_source(file: &Arc<SourceFile>, t: &Table, what: &str, warnings: &mut Vec<String>) -> Result<TriangleMesh> {
     let smooth = match t.get("smooth") {
         Some(v) => v.bool()?,
         None => false,
     };
     let mut mesh = mesh_data(file, t)?;
+    let total = mesh.indices.len();
+    let dropped = mesh.remove_degenerate();
+    if dropped > 0 {
+        let (line, _) = file.line_col(t.location().span.start);
+        let place = format!("{}:{line}", file.path.display());
+        warnings.push(if dropped == total {
+            format!("{place}: {what} has no triangle with area ({total} degenerate): it draws nothing")
+        } else {
+            format!("{place}: {what}: skipped {dropped} of {total} triangles with zero area")
+        });
+    }
     if smooth {
         mesh.compute_smooth_normals();
     }

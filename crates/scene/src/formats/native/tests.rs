@@ -151,3 +151,51 @@ fn defaults_when_tables_are_absent() {
     assert_eq!(d.render, crate::desc::RenderDesc::default());
     assert!(d.shapes.is_empty() && d.lights.is_empty());
 }
+
+#[test]
+fn degenerate_triangles_are_skipped_with_a_warning_naming_the_mesh() {
+    let d = parse(
+        r#"
+        [[mesh]]
+        name = "thin"
+        positions = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [2, 0, 0]]
+        indices = [[0, 1, 2], [0, 1, 3], [1, 1, 2]]
+
+        [[mesh]]
+        name = "flat"
+        positions = [[0, 0, 0], [1, 0, 0], [2, 0, 0]]
+        indices = [[0, 1, 2]]
+
+        [[shape]]
+        type = "instance"
+        mesh = "flat"
+        "#,
+    );
+    assert_eq!(d.meshes[0].indices, vec![[0, 1, 2]]);
+    assert!(d.meshes[1].indices.is_empty());
+    assert_eq!(d.warnings.len(), 2, "{:?}", d.warnings);
+    assert_eq!(
+        d.warnings[0],
+        "test.toml:2: mesh `thin`: skipped 2 of 3 triangles with zero area"
+    );
+    assert_eq!(
+        d.warnings[1],
+        "test.toml:7: mesh `flat` has no triangle with area (1 degenerate): it draws nothing"
+    );
+    // The scene with its empty mesh still builds and renders nothing in its place.
+    let scene = crate::build_scene(&d).unwrap();
+    let ray = penumbra_core::Ray::new(Vec3::new(0.5, 0.1, 1.0), Vec3::NEG_Z);
+    assert!(scene.intersect(&ray, f32::INFINITY).is_none());
+}
+
+#[test]
+fn huge_coordinates_are_an_error_naming_the_vertex() {
+    let e = read(&SourceFile::new(
+        "test.toml",
+        "[[mesh]]\nname = \"m\"\npositions = [[0, 0, 0], [1, 0, 0], [0, 1e35, 0]]\nindices = [[0, 1, 2]]\n".into(),
+    ))
+    .unwrap_err();
+    let text = format!("{e}");
+    assert!(text.contains("vertex 2") && text.contains("1e35"), "{text}");
+    assert_eq!(e.location().map(|l| l.file.line_col(l.span.start).0), Some(4));
+}
