@@ -37,6 +37,8 @@ pub struct AccelReport {
     /// Build times in seconds: best and median.
     pub build: (f64, f64),
     pub memory_bytes: usize,
+    /// Bytes of the primitive data the accelerator reads.
+    pub primitive_bytes: usize,
     pub throughput: Vec<Throughput>,
 }
 
@@ -68,6 +70,7 @@ pub fn bench_accel<P: PrimitiveSet>(kind: AccelKind, prims: &Arc<P>, sets: &[Ray
         kind,
         build: best_and_median(builds, false),
         memory_bytes: accel.memory_bytes(),
+        primitive_bytes: accel.primitive_bytes(),
         throughput,
     }
 }

@@ -201,11 +201,12 @@ fn race<P: PrimitiveSet>(
         args.repeats
     );
     println!(
-        "{:<12} {:>15} {:>10} {:>8}  {:<11} {:>17} {:>17} {:>9} {:>9} {:>10}",
+        "{:<12} {:>15} {:>10} {:>8} {:>11}  {:<11} {:>17} {:>17} {:>9} {:>9} {:>10}",
         "accel",
         "build s (best/med)",
         "memory MB",
         "B/tri",
+        "+tris B/tri",
         "rays",
         "Mrays/s 1T b/med",
         "Mrays/s all b/med",
@@ -227,10 +228,11 @@ fn race<P: PrimitiveSet>(
             } else {
                 String::new()
             };
-            let per_tri = if i == 0 && triangles > 0 {
-                format!("{:.1}", r.memory_bytes as f64 / triangles as f64)
+            let (per_tri, with_tris) = if i == 0 && triangles > 0 {
+                let per = |bytes: usize| format!("{:.1}", bytes as f64 / triangles as f64);
+                (per(r.memory_bytes), per(r.memory_bytes + r.primitive_bytes))
             } else {
-                String::new()
+                (String::new(), String::new())
             };
             let sampled = if t.traced < sets[i].rays.len() {
                 format!(" ({} traced)", t.traced)
@@ -238,11 +240,12 @@ fn race<P: PrimitiveSet>(
                 String::new()
             };
             println!(
-                "{:<12} {:>15} {:>10} {:>8}  {:<11} {:>8.2}/{:<8.2} {:>8.2}/{:<8.2} {:>9.1} {:>9.1} {:>10}{}",
+                "{:<12} {:>15} {:>10} {:>8} {:>11}  {:<11} {:>8.2}/{:<8.2} {:>8.2}/{:<8.2} {:>9.1} {:>9.1} {:>10}{}",
                 if i == 0 { kind.name() } else { "" },
                 build,
                 mem,
                 per_tri,
+                with_tris,
                 t.rays,
                 t.single.0,
                 t.single.1,

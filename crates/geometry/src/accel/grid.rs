@@ -285,6 +285,10 @@ impl<P: PrimitiveSet> Traverse for Grid<P> {
         self.root.bounds
     }
 
+    fn prim_bytes(&self) -> usize {
+        self.prims.memory_bytes()
+    }
+
     fn bytes(&self) -> usize {
         std::mem::size_of::<Self>() + self.root.memory_bytes()
     }

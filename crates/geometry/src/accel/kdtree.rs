@@ -218,6 +218,10 @@ impl<P: PrimitiveSet> Traverse for KdTree<P> {
         self.bounds
     }
 
+    fn prim_bytes(&self) -> usize {
+        self.prims.memory_bytes()
+    }
+
     fn bytes(&self) -> usize {
         std::mem::size_of::<Self>()
             + self.nodes.capacity() * std::mem::size_of::<Node>()

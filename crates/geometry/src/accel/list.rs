@@ -53,6 +53,10 @@ impl<P: PrimitiveSet> Traverse for List<P> {
         self.bounds
     }
 
+    fn prim_bytes(&self) -> usize {
+        self.prims.memory_bytes()
+    }
+
     fn bytes(&self) -> usize {
         std::mem::size_of::<Self>()
     }

@@ -39,6 +39,9 @@ pub trait Accel: Send + Sync {
     fn intersect_counted(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit>;
     /// Bytes of memory the structure holds, not counting the primitives themselves.
     fn memory_bytes(&self) -> usize;
+    /// Bytes of the primitive data the structure reads (for a mesh, its packed vertices):
+    /// its own leaf-ordered copy, or the set it was built over.
+    fn primitive_bytes(&self) -> usize;
 }
 
 /// What an accelerator implements; [`Accel`] follows from it, with the closest-hit query
@@ -48,6 +51,7 @@ pub trait Traverse: Send + Sync {
     fn any_hit(&self, ray: &Ray, t_max: f32) -> bool;
     fn extent(&self) -> Aabb;
     fn bytes(&self) -> usize;
+    fn prim_bytes(&self) -> usize;
 }
 
 impl<T: Traverse> Accel for T {
@@ -65,6 +69,9 @@ impl<T: Traverse> Accel for T {
     }
     fn memory_bytes(&self) -> usize {
         self.bytes()
+    }
+    fn primitive_bytes(&self) -> usize {
+        self.prim_bytes()
     }
 }
 
@@ -309,6 +316,9 @@ impl<P: PrimitiveSet> Accel for WithUnbounded<P> {
     }
     fn memory_bytes(&self) -> usize {
         self.inner.memory_bytes() + self.unbounded.memory_bytes() + std::mem::size_of::<Self>()
+    }
+    fn primitive_bytes(&self) -> usize {
+        self.inner.primitive_bytes()
     }
 }
 

@@ -226,6 +226,10 @@ impl<P: PrimitiveSet> Traverse for Octree<P> {
         self.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds)
     }
 
+    fn prim_bytes(&self) -> usize {
+        self.prims.memory_bytes()
+    }
+
     fn bytes(&self) -> usize {
         std::mem::size_of::<Self>()
             + self.nodes.capacity() * std::mem::size_of::<Node>()
