@@ -118,7 +118,7 @@ impl<P: PrimitiveSet> Bvh<P> {
             min: n.min.into(),
             max: n.max.into(),
         });
-        let mut nodes = Vec::with_capacity(binary.len() / 2 + 1);
+        let mut nodes = Vec::new();
         let root_leaf = match binary.first() {
             Some(root) if root.count > 0 => Some((root.offset, root.count)),
             Some(_) => {

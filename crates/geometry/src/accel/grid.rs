@@ -8,9 +8,8 @@
 //! Resolution: about `lambda * N` cells in all, shaped like the bounds (cell side
 //! `(V / (lambda N))^(1/3)`), at most 512 per axis; `lambda` defaults to 4.
 
-use super::mailbox::{closest_in_cells, occluded_in_cells, CellVisitor, CellWalk};
-use super::{Counter, PrimitiveSet, Traverse};
-use crate::Hit;
+use super::mailbox::{CellVisitor, CellWalk};
+use super::{Counter, PrimitiveSet};
 use glam::{UVec3, Vec3};
 use penumbra_core::{Aabb, Ray};
 use rayon::prelude::*;
@@ -270,25 +269,9 @@ impl<P: PrimitiveSet> CellWalk for Grid<P> {
     fn walk<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C, visit: &mut CellVisitor<'_, C>) {
         self.root.walk(ray, t_max, stats, visit);
     }
-}
-
-impl<P: PrimitiveSet> Traverse for Grid<P> {
-    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
-        closest_in_cells(self, ray, t_max, stats)
-    }
-
-    fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
-        occluded_in_cells(self, ray, t_max)
-    }
-
     fn extent(&self) -> Aabb {
         self.root.bounds
     }
-
-    fn prim_bytes(&self) -> usize {
-        self.prims.memory_bytes()
-    }
-
     fn bytes(&self) -> usize {
         std::mem::size_of::<Self>() + self.root.memory_bytes()
     }

@@ -8,9 +8,8 @@
 //! walk: the near child first, the far one later, stopping once a hit lies inside the
 //! current node's interval; mailboxing skips primitives met in earlier leaves.
 
-use super::mailbox::{closest_in_cells, occluded_in_cells, CellVisitor, CellWalk};
-use super::{Counter, PrimitiveSet, Traverse};
-use crate::Hit;
+use super::mailbox::{CellVisitor, CellWalk};
+use super::{Counter, PrimitiveSet};
 use penumbra_core::{Aabb, Ray};
 use std::sync::Arc;
 
@@ -203,25 +202,9 @@ impl<P: PrimitiveSet> CellWalk for KdTree<P> {
     fn walk<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C, visit: &mut CellVisitor<'_, C>) {
         self.walk_cells(ray, t_max, stats, visit);
     }
-}
-
-impl<P: PrimitiveSet> Traverse for KdTree<P> {
-    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
-        closest_in_cells(self, ray, t_max, stats)
-    }
-
-    fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
-        occluded_in_cells(self, ray, t_max)
-    }
-
     fn extent(&self) -> Aabb {
         self.bounds
     }
-
-    fn prim_bytes(&self) -> usize {
-        self.prims.memory_bytes()
-    }
-
     fn bytes(&self) -> usize {
         std::mem::size_of::<Self>()
             + self.nodes.capacity() * std::mem::size_of::<Node>()

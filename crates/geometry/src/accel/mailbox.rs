@@ -4,9 +4,9 @@
 //! stamp arrays: a query takes one (nested queries, as through instances, take another),
 //! stamps it with a fresh ray number, and gives it back.
 
-use super::{Counter, PrimitiveSet};
+use super::{Counter, PrimitiveSet, Traverse};
 use crate::Hit;
-use penumbra_core::Ray;
+use penumbra_core::{Aabb, Ray};
 use std::cell::RefCell;
 
 struct Mailbox {
@@ -36,10 +36,33 @@ pub type CellVisitor<'a, C> = dyn FnMut(&[u32], f32, &mut C) -> f32 + 'a;
 /// A spatial subdivision that may list a primitive in several cells and hands the cells
 /// along a ray to a visitor, nearest first. The walk ends once the closest distance the
 /// visitor reports lies within the cell just visited: nothing nearer can remain.
-pub trait CellWalk {
+pub trait CellWalk: Send + Sync {
     type Prims: PrimitiveSet;
     fn prims(&self) -> &Self::Prims;
     fn walk<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C, visit: &mut CellVisitor<'_, C>);
+    /// Bounds of everything in the structure.
+    fn extent(&self) -> Aabb;
+    /// Bytes the structure holds, not counting the primitives.
+    fn bytes(&self) -> usize;
+}
+
+/// A cell walk answers every query: closest and any hit with mailboxing, written once.
+impl<W: CellWalk> Traverse for W {
+    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+        closest_in_cells(self, ray, t_max, stats)
+    }
+    fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
+        occluded_in_cells(self, ray, t_max)
+    }
+    fn extent(&self) -> Aabb {
+        CellWalk::extent(self)
+    }
+    fn bytes(&self) -> usize {
+        CellWalk::bytes(self)
+    }
+    fn prim_bytes(&self) -> usize {
+        self.prims().memory_bytes()
+    }
 }
 
 /// The closest hit of a cell walk, each primitive tested at most once.

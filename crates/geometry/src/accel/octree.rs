@@ -11,9 +11,8 @@
 //! Traversal visits a node's own primitives, then its children front to back by the
 //! distance at which the ray enters them, skipping those beyond the closest hit.
 
-use super::mailbox::{closest_in_cells, occluded_in_cells, CellVisitor, CellWalk};
-use super::{Counter, PrimitiveSet, Traverse};
-use crate::Hit;
+use super::mailbox::{CellVisitor, CellWalk};
+use super::{Counter, PrimitiveSet};
 use glam::Vec3;
 use penumbra_core::{Aabb, Ray};
 use std::sync::Arc;
@@ -211,25 +210,9 @@ impl<P: PrimitiveSet> CellWalk for Octree<P> {
     fn walk<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C, visit: &mut CellVisitor<'_, C>) {
         self.walk_nodes(ray, t_max, stats, visit);
     }
-}
-
-impl<P: PrimitiveSet> Traverse for Octree<P> {
-    fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
-        closest_in_cells(self, ray, t_max, stats)
-    }
-
-    fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
-        occluded_in_cells(self, ray, t_max)
-    }
-
     fn extent(&self) -> Aabb {
         self.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds)
     }
-
-    fn prim_bytes(&self) -> usize {
-        self.prims.memory_bytes()
-    }
-
     fn bytes(&self) -> usize {
         std::mem::size_of::<Self>()
             + self.nodes.capacity() * std::mem::size_of::<Node>()
