@@ -85,13 +85,9 @@ pub fn run(command: BenchCommand) -> Result<(), Failure> {
             }
             .map_err(|e| bad(format!("cannot load {}: {e}", args.input.display())))?;
             let mut mesh = mesh;
-            let total = mesh.indices.len();
-            let dropped = mesh.remove_degenerate();
-            if dropped > 0 {
-                eprintln!(
-                    "warning: {}: skipped {dropped} of {total} triangles with zero area",
-                    args.input.display()
-                );
+            let place = args.input.display().to_string();
+            if let Some(warning) = penumbra::scene::formats::drop_degenerate(&mut mesh, &place) {
+                eprintln!("warning: {warning}");
             }
             let triangles = mesh.indices.len();
             let prims = Arc::new(MeshTriangles::new(Arc::new(mesh)));

@@ -8,7 +8,22 @@ pub mod obj;
 pub mod ply;
 
 use crate::{SceneDesc, SceneError, SourceFile};
+use penumbra_geometry::TriangleMesh;
 use std::path::Path;
+
+/// Drops `mesh`'s triangles without area; returns a warning about `what` (the mesh's name
+/// and place) when there were any, saying whether anything is left to draw.
+pub fn drop_degenerate(mesh: &mut TriangleMesh, what: &str) -> Option<String> {
+    let total = mesh.indices.len();
+    let dropped = mesh.remove_degenerate();
+    match dropped {
+        0 => None,
+        _ if dropped == total => Some(format!(
+            "{what} has no triangle with area ({total} degenerate): it draws nothing"
+        )),
+        _ => Some(format!("{what}: skipped {dropped} of {total} triangles with zero area")),
+    }
+}
 
 /// Reads the scene file at `path`, choosing the reader by its extension.
 pub fn read_scene(path: &Path) -> Result<SceneDesc, SceneError> {

@@ -151,17 +151,9 @@ fn mesh_source(file: &Arc<SourceFile>, t: &Table, what: &str, warnings: &mut Vec
         None => false,
     };
     let mut mesh = mesh_data(file, t)?;
-    let total = mesh.indices.len();
-    let dropped = mesh.remove_degenerate();
-    if dropped > 0 {
-        let (line, _) = file.line_col(t.location().span.start);
-        let place = format!("{}:{line}", file.path.display());
-        warnings.push(if dropped == total {
-            format!("{place}: {what} has no triangle with area ({total} degenerate): it draws nothing")
-        } else {
-            format!("{place}: {what}: skipped {dropped} of {total} triangles with zero area")
-        });
-    }
+    let (line, _) = file.line_col(t.location().span.start);
+    let place = format!("{}:{line}: {what}", file.path.display());
+    warnings.extend(crate::formats::drop_degenerate(&mut mesh, &place));
     if smooth {
         mesh.compute_smooth_normals();
     }
