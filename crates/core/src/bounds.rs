@@ -55,6 +55,19 @@ impl Aabb {
         self.min.cmpgt(self.max).any()
     }
 
+    /// The box both boxes cover (empty if they do not meet).
+    pub fn intersection(self, o: Aabb) -> Self {
+        let b = Aabb {
+            min: self.min.max(o.min),
+            max: self.max.min(o.max),
+        };
+        if b.is_empty() {
+            Aabb::EMPTY
+        } else {
+            b
+        }
+    }
+
     /// Whether the boxes share a point (touching counts).
     pub fn overlaps(&self, o: &Aabb) -> bool {
         self.min.cmple(o.max).all() && o.min.cmple(self.max).all()
@@ -103,13 +116,30 @@ impl Aabb {
     /// The slab test (Kay and Kajiya 1986): entry distance of `ray` if it overlaps the box
     /// within `(0, t_max)`. `inv_dir` is `1 / ray.dir`, computed once per ray. The
     /// exit distance is widened by 2 ulp-scale (pbrt-v4's `1 + 2 * gamma(3)`) so that
-    /// rounding never skips a box the ray grazes.
+    /// rounding never skips a box the ray grazes. A ray with no motion along an axis that
+    /// lies exactly in one of the box's faces gets 0 * inf = NaN there; NaN distances are
+    /// ignored (as in pbrt), so such a ray counts as touching the box.
     #[inline]
     pub fn hit(&self, ray: &Ray, inv_dir: Vec3, t_max: f32) -> Option<f32> {
         let t0 = (self.min - ray.origin) * inv_dir;
         let t1 = (self.max - ray.origin) * inv_dir;
-        let near = t0.min(t1).max_element().max(0.0);
-        let far = t0.max(t1).min_element() * (1.0 + 2.0 * GAMMA3);
+        let (mut near, mut far) = (0.0f32, f32::INFINITY);
+        for a in 0..3 {
+            // Entry and exit planes by the direction's sign, not by comparing distances that
+            // may be NaN.
+            let (lo, hi) = if inv_dir[a].is_sign_negative() {
+                (t1[a], t0[a])
+            } else {
+                (t0[a], t1[a])
+            };
+            if lo > near {
+                near = lo;
+            }
+            if hi < far {
+                far = hi;
+            }
+        }
+        let far = far * (1.0 + 2.0 * GAMMA3);
         (near <= far && near < t_max).then_some(near)
     }
 }
@@ -134,6 +164,14 @@ mod tests {
         let behind = Ray::new(Vec3::new(5.0, 0.0, 0.0), Vec3::X);
         assert_eq!(behind.origin.x, 5.0);
         assert_eq!(b.hit(&behind, behind.dir.recip(), 10.0), None);
+        // Rays inside a face's plane with no motion across it touch the box (0 * inf = NaN
+        // ignored); one just outside the plane does not.
+        for (x, dx) in [(-1.0, 0.0), (1.0, 0.0), (-1.0, -0.0), (1.0, -0.0)] {
+            let grazing = Ray::new(Vec3::new(x, 0.0, -5.0), Vec3::new(dx, 0.0, 1.0));
+            assert_eq!(b.hit(&grazing, grazing.dir.recip(), 10.0), Some(4.0), "{grazing:?}");
+            let outside = Ray::new(Vec3::new(x * 1.000001, 0.0, -5.0), Vec3::Z);
+            assert_eq!(b.hit(&outside, outside.dir.recip(), 10.0), None);
+        }
     }
 
     #[test]

@@ -4,7 +4,7 @@
 use crate::accel::{build_accel, Accel, AccelKind, PrimitiveSet};
 use crate::instance::triangle_surface;
 use crate::shapes::triangle::{intersect_triangle_prepared, TriangleRay};
-use crate::shapes::triangle_box::triangle_overlaps_box;
+use crate::shapes::triangle_box::{triangle_clipped_bounds, triangle_overlaps_box};
 use crate::{Hit, Instance, Shape, SurfaceHit, TriangleMesh};
 use penumbra_core::{Aabb, Ray};
 use std::sync::Arc;
@@ -177,6 +177,15 @@ impl PrimitiveSet for Geometry {
                 triangle_overlaps_box(self.meshes[mesh as usize].0.vertices(tri as usize), b)
             }
             _ => self.bounds(i).overlaps(b),
+        }
+    }
+
+    fn clip_bounds(&self, i: u32, b: &Aabb) -> Aabb {
+        match self.prims[i as usize] {
+            Prim::Triangle { mesh, tri } => {
+                triangle_clipped_bounds(self.meshes[mesh as usize].0.vertices(tri as usize), b)
+            }
+            _ => self.bounds(i).intersection(*b),
         }
     }
 

@@ -4,7 +4,7 @@
 use crate::accel::{build_accel, Accel, AccelKind, PrimitiveSet, PAD};
 use crate::shapes::triangle::{intersect_triangle_prepared, TriangleRay};
 use crate::shapes::triangle4::Triangle4;
-use crate::shapes::triangle_box::triangle_overlaps_box;
+use crate::shapes::triangle_box::{triangle_clipped_bounds, triangle_overlaps_box};
 use crate::{Hit, Placement, TriangleMesh};
 use glam::{Vec2, Vec3};
 use penumbra_core::{Aabb, Ray, Transform};
@@ -81,6 +81,12 @@ impl PrimitiveSet for MeshTriangles {
     }
     fn overlaps(&self, i: u32, b: &Aabb) -> bool {
         self.id(i) != PAD && triangle_overlaps_box(self.triangle(i), b)
+    }
+    fn clip_bounds(&self, i: u32, b: &Aabb) -> Aabb {
+        if self.id(i) == PAD {
+            return Aabb::EMPTY;
+        }
+        triangle_clipped_bounds(self.triangle(i), b)
     }
     #[inline]
     fn intersect(&self, i: u32, _ray: &Ray, data: &TriangleRay, t_max: f32) -> Option<Hit> {

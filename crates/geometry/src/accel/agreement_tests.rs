@@ -230,3 +230,65 @@ fn empty_and_single_primitive_scenes() {
         check_agreement(8, n, false, true).unwrap();
     }
 }
+
+#[test]
+fn rays_inside_split_planes_and_along_shared_edges_agree() {
+    // A floor of unit squares on the integer lattice plus walls standing in the planes
+    // x = integer: split planes fall on the shared edges and on the walls. Rays run inside
+    // those planes (x exactly an integer, no x motion) and down onto vertices and edges.
+    let mut mesh = TriangleMesh::default();
+    let mut quad = |p: [Vec3; 4]| {
+        let n = mesh.positions.len() as u32;
+        mesh.positions.extend(p);
+        mesh.indices.extend([[n, n + 1, n + 2], [n, n + 2, n + 3]]);
+    };
+    for i in 0..8 {
+        for j in 0..8 {
+            let (x, z) = (i as f32, j as f32);
+            quad([
+                Vec3::new(x, 0.0, z),
+                Vec3::new(x + 1.0, 0.0, z),
+                Vec3::new(x + 1.0, 0.0, z + 1.0),
+                Vec3::new(x, 0.0, z + 1.0),
+            ]);
+        }
+        if i % 3 == 1 {
+            let x = i as f32;
+            quad([
+                Vec3::new(x, 0.0, 1.0),
+                Vec3::new(x, 0.0, 5.0),
+                Vec3::new(x, 2.0, 5.0),
+                Vec3::new(x, 2.0, 1.0),
+            ]);
+        }
+    }
+    let mut b = GeometryBuilder::new();
+    b.add_mesh(mesh);
+    let g = Arc::new(b.build());
+    let reference = g.accel(AccelKind::List);
+    let mut rng = Pcg32::new(17, 0);
+    let mut rays = Vec::new();
+    for _ in 0..400 {
+        let x = (rng.next_u32() % 9) as f32;
+        let z = (rng.next_u32() % 17) as f32 * 0.5;
+        let dz = [0.0, 0.5, -0.25][(rng.next_u32() % 3) as usize];
+        rays.push(Ray::new(Vec3::new(x, 3.0, z), Vec3::new(0.0, -1.0, dz)));
+        // From below the floor, shared edges fall to the other triangle of each pair.
+        rays.push(Ray::new(Vec3::new(x, -3.0, z), Vec3::new(0.0, 1.0, dz)));
+        rays.push(Ray::new(Vec3::new(x, -3.0, z), Vec3::new(-0.0, 1.0, -dz)));
+        rays.push(Ray::new(Vec3::new(x - 0.5, 1.0, z), Vec3::new(1.0, 0.0, 0.0)));
+        rays.push(Ray::new(Vec3::new(x, 1.0, -1.0), Vec3::new(0.0, 0.0, 1.0)));
+    }
+    let mut hits = 0;
+    for kind in AccelKind::ALL {
+        let accel = g.accel(kind);
+        for ray in &rays {
+            let want = reference.intersect(ray, f32::INFINITY);
+            let got = accel.intersect(ray, f32::INFINITY);
+            hits += want.is_some() as usize;
+            assert_eq!(want.map(|h| h.t), got.map(|h| h.t), "{kind:?} {ray:?}");
+            assert_eq!(want.is_some(), accel.occluded(ray, f32::INFINITY), "{kind:?} {ray:?}");
+        }
+    }
+    assert!(hits > rays.len(), "too few hits to mean anything: {hits}");
+}

@@ -156,7 +156,7 @@ impl<P: PrimitiveSet> Bvh<P> {
         mut visit: impl FnMut(usize, usize, f32, &mut C) -> (f32, bool),
     ) {
         if let Some((first, count)) = self.root_leaf {
-            if self.bounds.hit(ray, safe_recip(ray.dir), t_max).is_some() {
+            if self.bounds.hit(ray, ray.dir.recip(), t_max).is_some() {
                 visit(first as usize, count as usize, t_max, stats);
             }
             return;
@@ -164,7 +164,7 @@ impl<P: PrimitiveSet> Bvh<P> {
         if self.nodes.is_empty() {
             return;
         }
-        let inv = safe_recip(ray.dir);
+        let inv = ray.dir.recip();
         let rs = RaySlabs::new(ray.origin, inv);
         // Pending subtrees (a node, or a leaf with its count in the high half) and their
         // entry distances; only slots below `top` are ever read, so they start uninitialised.
@@ -325,14 +325,22 @@ fn slabs(node: &WideNode, r: &RaySlabs, t_max: f32) -> (u32, [f32; WIDTH]) {
                 _mm256_set1_ps(r.inv[a]),
             )
         };
+        // max/min return their second operand when either is NaN: each slab distance goes
+        // first, so a NaN one (a ray inside a face's plane, 0 * inf) is ignored.
         let near = _mm256_max_ps(
-            _mm256_max_ps(axis(0, r.near[0]), axis(1, r.near[1])),
-            _mm256_max_ps(axis(2, r.near[2]), _mm256_setzero_ps()),
+            axis(0, r.near[0]),
+            _mm256_max_ps(
+                axis(1, r.near[1]),
+                _mm256_max_ps(axis(2, r.near[2]), _mm256_setzero_ps()),
+            ),
         );
         let far = _mm256_mul_ps(
             _mm256_min_ps(
-                _mm256_min_ps(axis(0, r.near[0] ^ 1), axis(1, r.near[1] ^ 1)),
-                _mm256_min_ps(axis(2, r.near[2] ^ 1), _mm256_set1_ps(t_max)),
+                axis(0, r.near[0] ^ 1),
+                _mm256_min_ps(
+                    axis(1, r.near[1] ^ 1),
+                    _mm256_min_ps(axis(2, r.near[2] ^ 1), _mm256_set1_ps(t_max)),
+                ),
             ),
             _mm256_set1_ps(ROUNDING),
         );
@@ -352,27 +360,15 @@ fn slabs(node: &WideNode, r: &RaySlabs, t_max: f32) -> (u32, [f32; WIDTH]) {
     for half in 0..WIDTH / 4 {
         let plane = |k: usize| Vec4::from_slice(&node.bounds[k][4 * half..4 * half + 4]);
         let axis = |a: usize, k: usize| (plane(k) - Vec4::splat(r.origin[a])) * Vec4::splat(r.inv[a]);
-        let near = axis(0, r.near[0])
-            .max(axis(1, r.near[1]))
-            .max(axis(2, r.near[2]))
-            .max(Vec4::ZERO);
+        // As above: each slab distance is the first operand, so NaN ones are ignored.
+        let near = axis(0, r.near[0]).max(axis(1, r.near[1]).max(axis(2, r.near[2]).max(Vec4::ZERO)));
         let far = axis(0, r.near[0] ^ 1)
-            .min(axis(1, r.near[1] ^ 1))
-            .min(axis(2, r.near[2] ^ 1))
-            .min(Vec4::splat(t_max))
+            .min(axis(1, r.near[1] ^ 1).min(axis(2, r.near[2] ^ 1).min(Vec4::splat(t_max))))
             * ROUNDING;
         mask |= near.cmple(far).bitmask() << (4 * half);
         near.write_to_slice(&mut t0[4 * half..4 * half + 4]);
     }
     (mask, t0)
-}
-
-/// `1 / dir`, with zero components replaced by tiny ones of the same sign so that slab
-/// distances are never NaN.
-#[inline]
-fn safe_recip(dir: Vec3) -> Vec3 {
-    let tiny = |x: f32| if x.abs() < 1e-30 { 1e-30f32.copysign(x) } else { x };
-    Vec3::new(tiny(dir.x), tiny(dir.y), tiny(dir.z)).recip()
 }
 
 /// Widens exit distances by pbrt-v4's 1 + 2 gamma(3) so rounding never skips a box.

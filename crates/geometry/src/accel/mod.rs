@@ -170,6 +170,12 @@ pub trait PrimitiveSet: Send + Sync + 'static {
     fn overlaps(&self, i: u32, b: &Aabb) -> bool {
         self.bounds(i).overlaps(b)
     }
+    /// Bounds of the part of primitive `i` inside box `b`, or a box containing it (the
+    /// k-d tree's "perfect splits"); empty if the primitive misses `b`. Triangles are
+    /// clipped; the rest take their bounding box cut to `b`.
+    fn clip_bounds(&self, i: u32, b: &Aabb) -> Aabb {
+        self.bounds(i).intersection(*b)
+    }
 }
 
 /// The accelerators a scene can choose.
@@ -288,6 +294,9 @@ impl<P: PrimitiveSet> PrimitiveSet for Subset<P> {
     }
     fn overlaps(&self, i: u32, b: &Aabb) -> bool {
         self.prims.overlaps(self.ids[i as usize], b)
+    }
+    fn clip_bounds(&self, i: u32, b: &Aabb) -> Aabb {
+        self.prims.clip_bounds(self.ids[i as usize], b)
     }
 }
 
