@@ -38,9 +38,19 @@ fn default_render_writes_render_png_and_says_where() {
 #[test]
 fn example_scenes_render() {
     let dir = tempfile::tempdir().unwrap();
-    for scene in ["whitted", "cornell", "refraction", "bunny", "bunny-10k"] {
+    let scenes = [
+        "whitted",
+        "cornell",
+        "refraction",
+        "spheres",
+        "bunny",
+        "bunny-10k",
+        "teapot-stadium",
+    ];
+    for scene in scenes {
         let path = repo().join("scenes").join(format!("{scene}.toml"));
-        if scene.starts_with("bunny") && !repo().join("../shared/scenes/mesh-stanford-bunny").exists() {
+        let needs_shared = scene.starts_with("bunny") || scene == "teapot-stadium";
+        if needs_shared && !repo().join("../shared/scenes").exists() {
             println!("note: skipping {scene}.toml: ../shared/scenes is not beside the repository");
             continue;
         }
@@ -273,6 +283,89 @@ fn every_accelerator_renders_the_same_image() {
         assert!(
             images.windows(2).all(|w| w[0] == w[1]),
             "{scene}: accelerators disagree"
+        );
+    }
+}
+
+#[test]
+fn bench_accel_races_every_accelerator_and_writes_cost_maps() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo().join("scenes/whitted.toml");
+    let maps = dir.path().join("maps/new");
+    let out = penumbra(
+        dir.path(),
+        &[
+            "bench",
+            "accel",
+            scene.to_str().unwrap(),
+            "--repeats",
+            "1",
+            "--aov",
+            "cost",
+            "--out-dir",
+            maps.to_str().unwrap(),
+        ],
+    );
+    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{stdout}{}", text(&out.stderr));
+    for name in ["list", "bvh", "grid", "nested-grid", "octree", "octree-keep", "kdtree"] {
+        assert!(
+            stdout.lines().any(|l| l.starts_with(&format!("{name} "))),
+            "{name}: {stdout}"
+        );
+        let png = std::fs::read(maps.join(format!("cost-{name}.png"))).unwrap();
+        assert_eq!(&png[1..4], b"PNG");
+    }
+}
+
+#[test]
+fn bench_accel_counts_hits_that_differ_from_the_expected_ones() {
+    // A unit square of two triangles; four rays down the z axis, two through the square and
+    // two beside it. The expected-hit file gets one answer wrong on purpose.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("square.obj"),
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n",
+    )
+    .unwrap();
+    let rays: [[f32; 6]; 4] = [
+        [0.7, 0.2, 2.0, 0.0, 0.0, -1.0],
+        [0.2, 0.7, 3.0, 0.0, 0.0, -1.0],
+        [2.0, 2.0, 2.0, 0.0, 0.0, -1.0],
+        [-1.0, 0.5, 2.0, 0.0, 0.0, -1.0],
+    ];
+    let bytes: Vec<u8> = rays.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+    std::fs::write(dir.path().join("rays_four.f32"), bytes).unwrap();
+    // Right: triangle 0 at t 2, triangle 1 at t 3, a miss; wrong: a hit for the last miss.
+    let hits: [(i32, f32); 4] = [(0, 2.0), (1, 3.0), (-1, 0.0), (0, 2.0)];
+    let bytes: Vec<u8> = hits
+        .iter()
+        .flat_map(|(p, t)| p.to_le_bytes().into_iter().chain(t.to_le_bytes()))
+        .collect();
+    std::fs::write(dir.path().join("hits_four.bin"), bytes).unwrap();
+    let out = penumbra(
+        dir.path(),
+        &[
+            "bench",
+            "accel",
+            "square.obj",
+            "--rays",
+            "rays_four.f32",
+            "--repeats",
+            "1",
+        ],
+    );
+    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{stdout}{}", text(&out.stderr));
+    let rows: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.split_whitespace().any(|w| w == "four") && !l.contains("primitives"))
+        .collect();
+    assert_eq!(rows.len(), 7, "{stdout}");
+    for row in rows {
+        assert!(
+            row.trim_end().ends_with(" 1") || row.contains(" 1 ("),
+            "one mismatch: {row}"
         );
     }
 }

@@ -41,7 +41,8 @@ fn floats(bytes: &[u8]) -> impl Iterator<Item = f32> + '_ {
         .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
 }
 
-/// Reads a ray file: N x 6 little-endian float32.
+/// Reads a ray file: N x 6 little-endian float32. A ray with a non-finite number or a zero
+/// direction is an error naming it.
 pub fn read_rays(path: &Path) -> io::Result<Vec<Ray>> {
     let bytes = std::fs::read(path)?;
     if bytes.len() % 24 != 0 {
@@ -51,9 +52,24 @@ pub fn read_rays(path: &Path) -> io::Result<Vec<Ray>> {
         ));
     }
     let f: Vec<f32> = floats(&bytes).collect();
-    Ok(f.chunks_exact(6)
-        .map(|r| Ray::new(Vec3::new(r[0], r[1], r[2]), Vec3::new(r[3], r[4], r[5])))
-        .collect())
+    f.chunks_exact(6)
+        .enumerate()
+        .map(|(i, r)| {
+            let ray = Ray::new(Vec3::new(r[0], r[1], r[2]), Vec3::new(r[3], r[4], r[5]));
+            if !ray.origin.is_finite() || !ray.dir.is_finite() || ray.dir == Vec3::ZERO {
+                return Err(io::Error::new(
+                    io::ErrorKind::InvalidData,
+                    format!(
+                        "{}: ray {i} (origin {}, direction {}) needs finite numbers and a non-zero direction",
+                        path.display(),
+                        ray.origin,
+                        ray.dir
+                    ),
+                ));
+            }
+            Ok(ray)
+        })
+        .collect()
 }
 
 /// Reads an expected-hit file: N x (int32 primitive or -1, float32 t), little-endian.
@@ -123,6 +139,13 @@ mod tests {
         assert_eq!(rays, vec![Ray::new(Vec3::new(1.0, 2.0, 3.0), Vec3::NEG_Z)]);
         std::fs::write(&rays_path, &bytes[..20]).unwrap();
         assert!(read_rays(&rays_path).is_err());
+        for bad in [[0.0f32, 0.0, 0.0, 0.0, 0.0, 0.0], [f32::NAN, 0.0, 0.0, 0.0, 0.0, 1.0]] {
+            let mut b = bytes.clone();
+            b.extend(bad.iter().flat_map(|f| f.to_le_bytes()));
+            std::fs::write(&rays_path, &b).unwrap();
+            let e = read_rays(&rays_path).unwrap_err().to_string();
+            assert!(e.contains("ray 1 "), "{e}");
+        }
         let hits_path = dir.path().join("hits.bin");
         let hb: Vec<u8> = (-1i32)
             .to_le_bytes()

@@ -118,8 +118,12 @@ pub fn run(command: BenchCommand) -> Result<(), Failure> {
     })
 }
 
+/// Bounds of the bounded primitives (an infinite plane would make random rays NaN).
 fn bounds_of<P: PrimitiveSet>(prims: &P) -> penumbra::math::Aabb {
-    (0..prims.len() as u32).fold(penumbra::math::Aabb::EMPTY, |b, i| b.union(prims.bounds(i)))
+    (0..prims.len() as u32)
+        .map(|i| prims.bounds(i))
+        .filter(|b| b.is_finite())
+        .fold(penumbra::math::Aabb::EMPTY, |b, p| b.union(p))
 }
 
 fn ray_sets<P: PrimitiveSet>(
@@ -269,6 +273,8 @@ fn write_cost_images<P: PrimitiveSet>(
     prims: &Arc<P>,
     camera: &dyn Fn(u32) -> (u32, u32, Vec<Ray>),
 ) -> Result<(), Failure> {
+    std::fs::create_dir_all(&args.out_dir)
+        .map_err(|e| Failure::BadInput(miette::miette!("cannot create {}: {e}", args.out_dir.display())))?;
     let (w, h, rays) = camera(256);
     let costs: Vec<(AccelKind, Vec<f32>)> = kinds
         .iter()

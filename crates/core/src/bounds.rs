@@ -118,9 +118,13 @@ impl Aabb {
     /// exit distance is widened by 2 ulp-scale (pbrt-v4's `1 + 2 * gamma(3)`) so that
     /// rounding never skips a box the ray grazes. A ray with no motion along an axis that
     /// lies exactly in one of the box's faces gets 0 * inf = NaN there; NaN distances are
-    /// ignored (as in pbrt), so such a ray counts as touching the box.
+    /// ignored (as in pbrt), so such a ray counts as touching the box. A ray with a NaN in
+    /// its origin or direction misses every box.
     #[inline]
     pub fn hit(&self, ray: &Ray, inv_dir: Vec3, t_max: f32) -> Option<f32> {
+        if ray.origin.is_nan() || ray.dir.is_nan() {
+            return None;
+        }
         let t0 = (self.min - ray.origin) * inv_dir;
         let t1 = (self.max - ray.origin) * inv_dir;
         let (mut near, mut far) = (0.0f32, f32::INFINITY);
@@ -164,6 +168,10 @@ mod tests {
         let behind = Ray::new(Vec3::new(5.0, 0.0, 0.0), Vec3::X);
         assert_eq!(behind.origin.x, 5.0);
         assert_eq!(b.hit(&behind, behind.dir.recip(), 10.0), None);
+        let nan = Ray::new(Vec3::NAN, Vec3::Z);
+        assert_eq!(b.hit(&nan, nan.dir.recip(), 10.0), None);
+        let nan = Ray::new(Vec3::ZERO, Vec3::new(f32::NAN, 0.0, 1.0));
+        assert_eq!(b.hit(&nan, nan.dir.recip(), 10.0), None);
         // Rays inside a face's plane with no motion across it touch the box (0 * inf = NaN
         // ignored); one just outside the plane does not.
         for (x, dx) in [(-1.0, 0.0), (1.0, 0.0), (-1.0, -0.0), (1.0, -0.0)] {

@@ -180,6 +180,21 @@ impl PrimitiveSet for Geometry {
         }
     }
 
+    /// The primitive table, the analytic shapes, and the meshes' positions and indices
+    /// (what intersection reads; shading data and instanced meshes are not counted).
+    fn memory_bytes(&self) -> usize {
+        use std::mem::size_of;
+        let meshes: usize = self
+            .meshes
+            .iter()
+            .map(|(m, _)| m.positions.capacity() * size_of::<glam::Vec3>() + m.indices.capacity() * 12)
+            .sum();
+        self.prims.capacity() * size_of::<Prim>()
+            + self.shapes.capacity() * size_of::<(Shape, u32)>()
+            + self.instances.capacity() * size_of::<(Instance, u32)>()
+            + meshes
+    }
+
     fn clip_bounds(&self, i: u32, b: &Aabb) -> Aabb {
         match self.prims[i as usize] {
             Prim::Triangle { mesh, tri } => {

@@ -204,10 +204,29 @@ fn huge_coordinates_and_degenerate_triangles_neither_panic_nor_loop() {
         .extend([[n, n + 1, n + 2], [n + 3, n + 4, n + 5], [n + 3, n + 3, n + 3]]);
     let mut b = GeometryBuilder::new();
     b.add_mesh(mesh);
+    b.add_shape(Shape::Plane(
+        Plane::new(Vec3::ZERO, Vec3::Y, &Transform::IDENTITY).unwrap(),
+    ));
     let g = Arc::new(b.build());
     let reference = g.accel(AccelKind::List);
+    // Rays with NaN, infinite or zero parts: no hit, and above all no endless walk.
+    let broken = [
+        Ray::new(Vec3::NAN, Vec3::Z),
+        Ray::new(Vec3::ZERO, Vec3::new(f32::NAN, 1.0, 0.0)),
+        Ray::new(Vec3::new(0.5, 0.5, 0.5), Vec3::ZERO),
+        Ray::new(Vec3::new(f32::INFINITY, 0.0, 0.0), -Vec3::X),
+        Ray::new(Vec3::ZERO, Vec3::new(f32::INFINITY, 1.0, 0.0)),
+    ];
     for kind in AccelKind::ALL {
         let accel = g.accel(kind);
+        for ray in &broken {
+            assert_eq!(
+                reference.intersect(ray, f32::INFINITY).map(|h| h.prim),
+                accel.intersect(ray, f32::INFINITY).map(|h| h.prim),
+                "{kind:?} {ray:?}"
+            );
+            accel.occluded(ray, f32::INFINITY);
+        }
         for _ in 0..200 {
             let ray = random_ray(&mut rng);
             let (want, got) = (
