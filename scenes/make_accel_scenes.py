@@ -2,7 +2,7 @@
 """Writes the two scenes docs/accelerators.md measures (deterministic; run from anywhere):
 
 - teapot-stadium.toml: the Utah teapot (6,320 triangles, from ../shared) on the field of
-  a stadium about 370 units across built of 1,800 large triangles: a small dense mesh inside a
+  a stadium about 470 units across built of 1,730 large triangles: a small dense mesh inside a
   huge sparse one, the case where a regular grid puts the whole teapot in a few cells.
 - spheres.toml: 4,096 small spheres jittered through a cube: a uniform scene, the case a
   regular grid is made for.
@@ -33,10 +33,10 @@ def stadium():
             c, d = a + segments, b + segments
             tri += [(a, c, b), (b, c, d)]
     n = len(pos)
-    # The field: a fan from the centre to the innermost ring, just below the teapot.
-    pos.append((0.0, 0.0, 0.0))
-    for s in range(segments):
-        tri.append((n, s, (s + 1) % segments))
+    # The field: one rectangle under the bowl (two triangles, so the teapot is not at the
+    # apex of a fan of slivers).
+    pos += [(-150.0, 0.0, -120.0), (150.0, 0.0, -120.0), (150.0, 0.0, 120.0), (-150.0, 0.0, 120.0)]
+    tri += [(n, n + 3, n + 1), (n + 1, n + 3, n + 2)]
     return pos, tri
 
 

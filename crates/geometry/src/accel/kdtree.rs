@@ -20,8 +20,7 @@ use std::sync::Arc;
 const TRAVERSAL_COST: f32 = 1.0;
 const INTERSECT_COST: f32 = 1.5;
 const EMPTY_BONUS: f32 = 0.8;
-/// Depth limit of the tree, and so of the traversal stack (the usual 8 + 1.3 log2 N stays
-/// below it up to about 2^43 primitives).
+/// Depth limit of the tree, and so of the traversal stack.
 const MAX_STACK: usize = 64;
 /// Node indices and leaf sizes share 30 bits with the axis.
 const MAX_INDEX: usize = (1 << 30) - 1;
@@ -217,10 +216,10 @@ impl<P: PrimitiveSet> Build<'_, P> {
     /// `forks` more levels split their children between threads, each with its own copy
     /// of the per-primitive `side` marks.
     #[allow(clippy::too_many_arguments)]
-    fn node(&self, ev: Events, n: usize, bounds: Aabb, depth_left: u32, forks: u32, side: &mut [u8], out: &mut Tree) {
+    fn node(&self, ev: Events, n: usize, bounds: Aabb, depth: Depth, forks: u32, side: &mut [u8], out: &mut Tree) {
         let leaf_cost = INTERSECT_COST * n as f32;
         let full = self.size.fetch_add(1 + n, Ordering::Relaxed) + 2 * n + 2 >= MAX_INDEX;
-        let split = if n <= 1 || depth_left == 0 || full {
+        let split = if n <= 1 || depth.splits == 0 || depth.levels == 0 || full {
             None
         } else {
             find_split(&ev, n, &bounds).filter(|s| s.cost < leaf_cost)
@@ -289,22 +288,36 @@ impl<P: PrimitiveSet> Build<'_, P> {
             word: pos.to_bits(),
             bits: axis as u32,
         });
-        let depth_left = depth_left - 1;
+        // A cut that leaves one side empty duplicates nothing, so only the depth limit
+        // bounds it: a small object in a huge scene may need many such cuts.
+        let depth = Depth {
+            splits: depth.splits - (nl > 0 && nr > 0) as u32,
+            levels: depth.levels - 1,
+        };
         if forks > 0 && nl.min(nr) > PARALLEL_MIN {
             let mut side_r = side.to_vec();
             let mut out_r = Tree::default();
             rayon::join(
-                || self.node(left, nl, lb, depth_left, forks - 1, side, out),
-                || self.node(right, nr, rb, depth_left, forks - 1, &mut side_r, &mut out_r),
+                || self.node(left, nl, lb, depth, forks - 1, side, out),
+                || self.node(right, nr, rb, depth, forks - 1, &mut side_r, &mut out_r),
             );
             out.nodes[me].bits |= (out.nodes.len() as u32) << 2;
             out.append(out_r);
         } else {
-            self.node(left, nl, lb, depth_left, forks, side, out);
+            self.node(left, nl, lb, depth, forks, side, out);
             out.nodes[me].bits |= (out.nodes.len() as u32) << 2;
-            self.node(right, nr, rb, depth_left, forks, side, out);
+            self.node(right, nr, rb, depth, forks, side, out);
         }
     }
+}
+
+/// How much deeper a subtree may grow: splits that put primitives on both sides (the
+/// usual 8 + 1.3 log2 N of them, which bounds duplication), and levels of any kind (the
+/// traversal stack's size).
+#[derive(Clone, Copy)]
+struct Depth {
+    splits: u32,
+    levels: u32,
 }
 
 /// Subtrees with fewer primitives than this are built on the thread that splits them.
@@ -339,7 +352,10 @@ impl<P: PrimitiveSet> KdTree<P> {
             }
             drop(boxes);
             sort_events(&mut ev);
-            let max_depth = ((8.0 + 1.3 * (n as f32).log2()) as u32).min(MAX_STACK as u32);
+            let depth = Depth {
+                splits: (8.0 + 1.3 * (n as f32).log2()) as u32,
+                levels: MAX_STACK as u32,
+            };
             let mut side = vec![BOTH; n as usize];
             let build = Build {
                 prims: &*tree.prims,
@@ -347,7 +363,7 @@ impl<P: PrimitiveSet> KdTree<P> {
             };
             let forks = rayon::current_num_threads().next_power_of_two().trailing_zeros() + 3;
             let mut out = Tree::default();
-            build.node(ev, count, bounds, max_depth, forks, &mut side, &mut out);
+            build.node(ev, count, bounds, depth, forks, &mut side, &mut out);
             (tree.nodes, tree.items) = (out.nodes, out.items);
         }
         tree
@@ -366,7 +382,7 @@ impl<P: PrimitiveSet> KdTree<P> {
             let t1 = (self.bounds.max - ray.origin) * inv;
             t0.max(t1).min_element().min(t_max)
         };
-        // One pending far child per level of a tree at most `self.max_depth` deep.
+        // One pending far child per level of a tree at most `MAX_STACK` deep.
         let mut stack = [(0u32, 0f32, 0f32); MAX_STACK];
         let mut top = 0;
         let (mut node, mut t0, mut t1) = (0u32, t_enter, t_exit);
