@@ -51,6 +51,12 @@ pub fn read_rays(path: &Path) -> io::Result<Vec<Ray>> {
             format!("{}: size is not a multiple of 24 bytes", path.display()),
         ));
     }
+    if bytes.is_empty() {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!("{}: the file holds no rays", path.display()),
+        ));
+    }
     let f: Vec<f32> = floats(&bytes).collect();
     f.chunks_exact(6)
         .enumerate()
@@ -139,6 +145,8 @@ mod tests {
         assert_eq!(rays, vec![Ray::new(Vec3::new(1.0, 2.0, 3.0), Vec3::NEG_Z)]);
         std::fs::write(&rays_path, &bytes[..20]).unwrap();
         assert!(read_rays(&rays_path).is_err());
+        std::fs::write(&rays_path, []).unwrap();
+        assert!(read_rays(&rays_path).unwrap_err().to_string().contains("no rays"));
         for bad in [[0.0f32, 0.0, 0.0, 0.0, 0.0, 0.0], [f32::NAN, 0.0, 0.0, 0.0, 0.0, 1.0]] {
             let mut b = bytes.clone();
             b.extend(bad.iter().flat_map(|f| f.to_le_bytes()));
