@@ -12,6 +12,7 @@ pub mod ray;
 pub mod rng;
 pub mod samplers;
 pub mod transform;
+pub mod warp;
 
 pub use bounds::Aabb;
 pub use color::Rgb;

@@ -1,0 +1,174 @@
+//! Warps from the unit square to the shapes sampling needs, each with its density (pbrt-v4
+//! section A.5; Shirley and Chiu 1997 for the concentric disk; Malley's method for the
+//! cosine-weighted hemisphere). Directions are in a local frame with z up.
+
+use glam::{Vec2, Vec3};
+use std::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI};
+
+/// A point on the unit disk, uniform by area, by Shirley and Chiu's concentric map (which
+/// keeps strata compact). Density 1/π.
+pub fn uniform_disk(u: Vec2) -> Vec2 {
+    let o = 2.0 * u - Vec2::ONE;
+    if o == Vec2::ZERO {
+        return Vec2::ZERO;
+    }
+    let (r, theta) = if o.x.abs() > o.y.abs() {
+        (o.x, FRAC_PI_4 * (o.y / o.x))
+    } else {
+        (o.y, FRAC_PI_2 - FRAC_PI_4 * (o.x / o.y))
+    };
+    r * Vec2::new(theta.cos(), theta.sin())
+}
+
+pub const UNIFORM_DISK_PDF: f32 = FRAC_1_PI;
+
+/// A direction uniform over the sphere (Archimedes: z uniform in [-1, 1]). Density 1/(4π).
+pub fn uniform_sphere(u: Vec2) -> Vec3 {
+    let z = 1.0 - 2.0 * u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+pub const UNIFORM_SPHERE_PDF: f32 = 1.0 / (4.0 * PI);
+
+/// A direction uniform over the upper (z >= 0) hemisphere. Density 1/(2π).
+pub fn uniform_hemisphere(u: Vec2) -> Vec3 {
+    let z = u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+pub const UNIFORM_HEMISPHERE_PDF: f32 = 1.0 / (2.0 * PI);
+
+/// A direction over the upper hemisphere with density cos θ / π (Malley's method: a uniform
+/// disk point lifted onto the hemisphere).
+pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
+    let d = uniform_disk(u);
+    Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt())
+}
+
+/// Density of [`cosine_hemisphere`] at `w` (zero below the horizon).
+pub fn cosine_hemisphere_pdf(w: Vec3) -> f32 {
+    w.z.max(0.0) * FRAC_1_PI
+}
+
+/// A direction uniform over the cone of directions within angle acos(`cos_max`) of +z.
+pub fn uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
+    let z = 1.0 - u.x * (1.0 - cos_max);
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+/// Density of [`uniform_cone`] at `w`: 1 / (2π (1 - cos_max)) inside the cone, else zero.
+pub fn uniform_cone_pdf(w: Vec3, cos_max: f32) -> f32 {
+    if w.z >= cos_max {
+        1.0 / (2.0 * PI * (1.0 - cos_max))
+    } else {
+        0.0
+    }
+}
+
+/// Barycentric coordinates (b1, b2) of a point uniform over a triangle by area
+/// (Heitz 2019's low-distortion map); the point is `(1 - b1 - b2) p0 + b1 p1 + b2 p2`.
+pub fn uniform_triangle(u: Vec2) -> Vec2 {
+    let (b0, b1) = if u.x < u.y {
+        let b0 = u.x / 2.0;
+        (b0, u.y - b0)
+    } else {
+        let b1 = u.y / 2.0;
+        (u.x - b1, b1)
+    };
+    Vec2::new(b1, 1.0 - b0 - b1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use penumbra_testkit::{chi2_directions, chi2_test, Grid2, Uniforms};
+
+    /// Chi-square tests run in this module, for the significance correction.
+    const TESTS: usize = 8;
+    const N: usize = 400_000;
+
+    #[test]
+    fn direction_warps_fit_their_densities() {
+        let r = chi2_directions(1, N, |u| Some(uniform_sphere(u)), |_| UNIFORM_SPHERE_PDF);
+        r.assert_fits("uniform sphere", TESTS);
+        let r = chi2_directions(
+            2,
+            N,
+            |u| Some(uniform_hemisphere(u)),
+            |w| if w.z >= 0.0 { UNIFORM_HEMISPHERE_PDF } else { 0.0 },
+        );
+        r.assert_fits("uniform hemisphere", TESTS);
+        let r = chi2_directions(3, N, |u| Some(cosine_hemisphere(u)), cosine_hemisphere_pdf);
+        r.assert_fits("cosine hemisphere", TESTS);
+        assert!((r.integral - 1.0).abs() < 1e-4, "{}", r.describe());
+        for (seed, cos_max) in [(4, 0.3f32), (5, 0.95), (6, -0.5)] {
+            let r = chi2_directions(
+                seed,
+                N,
+                |u| Some(uniform_cone(u, cos_max)),
+                |w| uniform_cone_pdf(w, cos_max),
+            );
+            r.assert_fits(&format!("cone, cos_max {cos_max}"), TESTS);
+            assert!((r.integral - 1.0).abs() < 1e-3, "cone {cos_max}: {}", r.describe());
+        }
+    }
+
+    #[test]
+    fn area_warps_fit_their_densities() {
+        let grid = Grid2 {
+            min: [-1.0, -1.0],
+            max: [1.0, 1.0],
+            bins: [20, 20],
+        };
+        let mut u = Uniforms::new(7);
+        let r = chi2_test(
+            grid,
+            N,
+            || Some(uniform_disk(u.next_vec2())).map(|p| [p.x as f64, p.y as f64]),
+            |[x, y]| {
+                if x * x + y * y <= 1.0 {
+                    UNIFORM_DISK_PDF as f64
+                } else {
+                    0.0
+                }
+            },
+        );
+        r.assert_fits("concentric disk", TESTS);
+        // Barycentrics of a uniform triangle point: uniform over the half square b1 + b2 <= 1.
+        let grid = Grid2 {
+            min: [0.0, 0.0],
+            max: [1.0, 1.0],
+            bins: [20, 20],
+        };
+        let mut u = Uniforms::new(8);
+        let r = chi2_test(
+            grid,
+            N,
+            || Some(uniform_triangle(u.next_vec2())).map(|b| [b.x as f64, b.y as f64]),
+            |[x, y]| if x + y <= 1.0 { 2.0 } else { 0.0 },
+        );
+        r.assert_fits("uniform triangle", TESTS);
+    }
+
+    #[test]
+    fn warps_land_in_their_domains() {
+        let mut rng = crate::Pcg32::new(1, 0);
+        for _ in 0..10_000 {
+            let u = Vec2::new(rng.next_f32(), rng.next_f32());
+            assert!(uniform_disk(u).length() <= 1.0 + 1e-6);
+            assert!((uniform_sphere(u).length() - 1.0).abs() < 1e-5);
+            let h = cosine_hemisphere(u);
+            assert!((h.length() - 1.0).abs() < 1e-5 && h.z >= 0.0);
+            let c = uniform_cone(u, 0.8);
+            assert!((c.length() - 1.0).abs() < 1e-5 && c.z >= 0.8 - 1e-6);
+            let b = uniform_triangle(u);
+            assert!(b.x >= 0.0 && b.y >= 0.0 && b.x + b.y <= 1.0 + 1e-6);
+        }
+    }
+}
