@@ -11,6 +11,7 @@ pub mod hash;
 pub mod ray;
 pub mod rng;
 pub mod samplers;
+pub mod spherical;
 pub mod transform;
 pub mod warp;
 

@@ -3,7 +3,7 @@
 
 /// Initial panels: adaptivity starts from these, so a narrow feature that the first three
 /// points of a single panel would all miss is still seen.
-const PANELS: usize = 4;
+const PANELS: usize = 12;
 
 /// The integral of `f` over `[a, b]`, refined until two levels agree to `eps`.
 pub fn integrate_1d(f: &dyn Fn(f64) -> f64, a: f64, b: f64, eps: f64) -> f64 {
