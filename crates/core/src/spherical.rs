@@ -38,7 +38,7 @@ pub fn sample_triangle(p: Vec3, v: [Vec3; 3], u: Vec2) -> Option<(Vec3, f32)> {
     let beta = angle_between(n_bc, -n_ab);
     let gamma = angle_between(n_ca, -n_bc);
     let area = alpha + beta + gamma - PI;
-    if !(area >= MIN_SOLID_ANGLE as f64) {
+    if area.is_nan() || area < MIN_SOLID_ANGLE as f64 {
         return None;
     }
     // The sub-triangle (a, b, c') with area u0 * area: find c' on the arc a-c.
@@ -93,7 +93,7 @@ pub fn sample_rectangle(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3, u: Vec2) -> O
     let g2 = angle_between(-n2, n3);
     let g3 = angle_between(-n3, n0);
     let solid_angle = g0 + g1 + g2 + g3 - 2.0 * PI;
-    if !(solid_angle >= MIN_SOLID_ANGLE as f64) {
+    if solid_angle.is_nan() || solid_angle < MIN_SOLID_ANGLE as f64 {
         return None;
     }
     let (b0, b1) = (n0.z, n2.z);
