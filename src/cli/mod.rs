@@ -67,10 +67,10 @@ pub struct RenderArgs {
     /// Image resolution, WIDTHxHEIGHT (e.g. 1280x720).
     #[arg(long, value_parser = parse_resolution, value_name = "WxH")]
     pub res: Option<(u32, u32)>,
-    /// Acceleration structure: bvh (default), grid, nested-grid, list.
+    /// Acceleration structure: bvh (default), grid, nested-grid, octree, octree-keep, kdtree, list.
     #[arg(long)]
     pub accel: Option<String>,
-    /// Sampler: independent, stratified.
+    /// Sampler: stratified (default), halton, sobol, independent.
     #[arg(long)]
     pub sampler: Option<String>,
     /// Exposure in stops applied to PNG output (the image is multiplied by 2^EV).

@@ -2,12 +2,14 @@
 //!
 //! Every value is a pure function of (seed, pixel, sample index, dimension), so an image is
 //! identical for any thread count or tile order. Parameters (`[render]` in the native format):
-//! `sampler = "independent" | "stratified"` (default `stratified`).
+//! `sampler = "independent" | "stratified" | "halton" | "sobol"` (default `stratified`).
 //!
 //! Adding a sampler: a new file here with a `fn sample_1d/sample_2d(&Key) -> ...` pair, one
 //! variant in [`SamplerKind`] and one arm in each match below.
 
+mod halton;
 mod independent;
+mod sobol;
 mod stratified;
 
 use crate::hash::hash_words;
@@ -22,15 +24,27 @@ pub enum SamplerKind {
     /// patterns in 2D, jittered permuted strata in 1D (Kensler 2013).
     #[default]
     Stratified,
+    /// Halton points in bases 2 and 3, Owen-scrambled, index permuted per dimension pair.
+    Halton,
+    /// Sobol points, Owen-scrambled and shuffled by hashing (Burley 2020).
+    Sobol,
 }
 
 impl SamplerKind {
-    pub const NAMES: [&'static str; 2] = ["independent", "stratified"];
+    pub const NAMES: [&'static str; 4] = ["independent", "stratified", "halton", "sobol"];
+    pub const ALL: [SamplerKind; 4] = [
+        SamplerKind::Independent,
+        SamplerKind::Stratified,
+        SamplerKind::Halton,
+        SamplerKind::Sobol,
+    ];
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "independent" => Some(SamplerKind::Independent),
             "stratified" => Some(SamplerKind::Stratified),
+            "halton" => Some(SamplerKind::Halton),
+            "sobol" => Some(SamplerKind::Sobol),
             _ => None,
         }
     }
@@ -93,6 +107,8 @@ impl PixelSampler {
         match self.kind {
             SamplerKind::Independent => independent::sample_1d(&key),
             SamplerKind::Stratified => stratified::sample_1d(&key),
+            SamplerKind::Halton => halton::sample_1d(&key),
+            SamplerKind::Sobol => sobol::sample_1d(&key),
         }
     }
 
@@ -101,6 +117,8 @@ impl PixelSampler {
         match self.kind {
             SamplerKind::Independent => independent::sample_2d(&key),
             SamplerKind::Stratified => stratified::sample_2d(&key),
+            SamplerKind::Halton => halton::sample_2d(&key),
+            SamplerKind::Sobol => sobol::sample_2d(&key),
         }
     }
 }
@@ -122,7 +140,7 @@ mod tests {
 
     #[test]
     fn pure_function_of_pixel_and_index() {
-        for kind in [SamplerKind::Independent, SamplerKind::Stratified] {
+        for kind in SamplerKind::ALL {
             let a = samples(kind, 16, UVec2::new(3, 4));
             assert_eq!(a, samples(kind, 16, UVec2::new(3, 4)));
             assert_ne!(a, samples(kind, 16, UVec2::new(4, 3)));
@@ -133,6 +151,110 @@ mod tests {
             for (x, p) in &a {
                 assert!((0.0..1.0).contains(x) && (0.0..1.0).contains(&p.x) && (0.0..1.0).contains(&p.y));
             }
+        }
+    }
+
+    /// Whether every elementary interval of area 1/n (2^a x 2^b cells with a + b = log2 n)
+    /// holds exactly one of the n points: the (0, m, 2)-net property.
+    fn is_binary_net(points: &[Vec2]) -> bool {
+        let m = points.len().trailing_zeros();
+        (0..=m).all(|a| {
+            let (nx, ny) = (1u32 << a, 1u32 << (m - a));
+            let mut seen = vec![false; points.len()];
+            points.iter().all(|p| {
+                let cell = ((p.y * ny as f32) as u32 * nx + (p.x * nx as f32) as u32) as usize;
+                !std::mem::replace(&mut seen[cell], true)
+            })
+        })
+    }
+
+    #[test]
+    fn sobol_points_are_scrambled_nets_in_every_dimension_pair() {
+        for spp in [1u32, 4, 16, 64, 256] {
+            for pixel in [UVec2::new(0, 0), UVec2::new(17, 3)] {
+                let mut s = PixelSampler::new(SamplerKind::Sobol, 7, spp);
+                let mut dims: Vec<Vec<Vec2>> = vec![Vec::new(); 3];
+                let mut one_d = Vec::new();
+                for i in 0..spp {
+                    s.start(pixel, i);
+                    for d in &mut dims {
+                        d.push(s.next_2d());
+                    }
+                    one_d.push(s.next_1d());
+                }
+                for d in &dims {
+                    assert!(is_binary_net(d), "spp {spp}: {d:?}");
+                }
+                // 1D: one point in each of the spp strata.
+                let mut strata: Vec<u32> = one_d.iter().map(|x| (x * spp as f32) as u32).collect();
+                strata.sort();
+                assert_eq!(strata, (0..spp).collect::<Vec<_>>());
+                // Different dimension pairs are scrambled differently.
+                if spp > 1 {
+                    assert_ne!(dims[0], dims[1]);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn halton_points_fill_base_two_and_three_strata() {
+        // 6^k points of the Halton sequence put one point in each of 2^a x 3^b cells for
+        // 2^a and 3^b dividing the count; with scrambling and an index permutation within
+        // the pixel, the set of points is still a scrambled (0, 2)-net in bases (2, 3).
+        for spp in [6u32, 36, 72] {
+            let mut s = PixelSampler::new(SamplerKind::Halton, 3, spp);
+            let points: Vec<Vec2> = (0..spp)
+                .map(|i| {
+                    s.start(UVec2::new(5, 8), i);
+                    s.next_2d()
+                })
+                .collect();
+            let (twos, threes) = ((spp & spp.wrapping_neg()).trailing_zeros(), {
+                let (mut n, mut k) = (spp, 0);
+                while n % 3 == 0 {
+                    n /= 3;
+                    k += 1;
+                }
+                k
+            });
+            let (nx, ny) = (1u32 << twos, 3u32.pow(threes));
+            let mut cells: Vec<u32> = points
+                .iter()
+                .map(|p| (p.y * ny as f32) as u32 * nx + (p.x * nx as f32) as u32)
+                .collect();
+            cells.sort();
+            cells.dedup();
+            assert_eq!(cells.len() as u32, nx * ny, "spp {spp}: {points:?}");
+        }
+    }
+
+    #[test]
+    fn every_sampler_is_uniform_over_pixels_and_dimensions() {
+        use penumbra_testkit::{chi2_test, Grid2};
+        for kind in SamplerKind::ALL {
+            let mut s = PixelSampler::new(kind, 11, 16);
+            let mut values = (0..4096u32)
+                .flat_map(|p| (0..16).map(move |i| (p, i)))
+                .flat_map(|(p, i)| {
+                    s.start(UVec2::new(p % 64, p / 64), i);
+                    [s.next_2d(), s.next_2d()]
+                });
+            let grid = Grid2 {
+                min: [0.0, 0.0],
+                max: [1.0, 1.0],
+                bins: [16, 16],
+            };
+            let points: Vec<Vec2> = values.by_ref().collect();
+            let mut it = points.iter();
+            let r = chi2_test(
+                grid,
+                points.len(),
+                || it.next().map(|p| [p.x as f64, p.y as f64]),
+                |_| 1.0,
+            );
+            // Stratified samplers fit better than chance would; only a poor fit fails.
+            r.assert_fits(&format!("{kind:?}"), SamplerKind::ALL.len());
         }
     }
 

@@ -31,7 +31,7 @@ pub(super) fn sample_2d(key: &Key) -> Vec2 {
 const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// A pseudo-random permutation of [0, l) indexed by `i`, keyed by `p` (Kensler, listing 3).
-fn permute(mut i: u32, l: u32, p: u32) -> u32 {
+pub(super) fn permute(mut i: u32, l: u32, p: u32) -> u32 {
     if l <= 1 {
         return 0;
     }
