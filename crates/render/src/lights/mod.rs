@@ -5,6 +5,9 @@
 //! arm in each match.
 
 mod directional;
+pub mod emitter;
+#[cfg(test)]
+mod emitter_tests;
 mod point;
 mod spot;
 
