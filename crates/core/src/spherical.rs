@@ -60,43 +60,95 @@ pub fn sample_triangle(p: Vec3, v: [Vec3; 3], u: Vec2) -> Option<(Vec3, f32)> {
     Some((w.normalize().as_vec3(), (1.0 / area) as f32))
 }
 
+/// A rectangle as seen from a point, in the frame of Ureña et al.: x and y along the edges,
+/// z away from the point; the rectangle spans [x0, x1] x [y0, y1] at depth z0 < 0.
+struct RectangleView {
+    frame: [DVec3; 3],
+    x0: f64,
+    x1: f64,
+    y0: f64,
+    y1: f64,
+    z0: f64,
+    /// z components of the normals of the first and third edge planes.
+    b0: f64,
+    b1: f64,
+    /// The spherical rectangle's interior angles, and its area.
+    g: [f64; 4],
+    solid_angle: f64,
+}
+
+impl RectangleView {
+    /// `None` when `p` lies in the rectangle's plane.
+    fn new(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3) -> Option<Self> {
+        let (exl, eyl) = (ex.length() as f64, ey.length() as f64);
+        let x = ex.as_dvec3() / exl;
+        let y = ey.as_dvec3() / eyl;
+        let mut z = x.cross(y);
+        let d = (corner - p).as_dvec3();
+        let (x0, y0, mut z0) = (d.dot(x), d.dot(y), d.dot(z));
+        // Work with the rectangle below the reference point's local frame.
+        if z0 > 0.0 {
+            z = -z;
+            z0 = -z0;
+        }
+        if z0 == 0.0 {
+            return None;
+        }
+        let (x1, y1) = (x0 + exl, y0 + eyl);
+        let v00 = DVec3::new(x0, y0, z0);
+        let v01 = DVec3::new(x0, y1, z0);
+        let v10 = DVec3::new(x1, y0, z0);
+        let v11 = DVec3::new(x1, y1, z0);
+        let n0 = v00.cross(v10).normalize();
+        let n1 = v10.cross(v11).normalize();
+        let n2 = v11.cross(v01).normalize();
+        let n3 = v01.cross(v00).normalize();
+        let g = [
+            angle_between(-n0, n1),
+            angle_between(-n1, n2),
+            angle_between(-n2, n3),
+            angle_between(-n3, n0),
+        ];
+        Some(RectangleView {
+            frame: [x, y, z],
+            x0,
+            x1,
+            y0,
+            y1,
+            z0,
+            b0: n0.z,
+            b1: n2.z,
+            g,
+            solid_angle: g.iter().sum::<f64>() - 2.0 * PI,
+        })
+    }
+}
+
 /// The solid angle of the rectangle with corner `corner` and perpendicular edges `ex`,
-/// `ey`, seen from `p`, and a point on it uniform over that solid angle, with its density
-/// (1 / solid angle). `None` for a degenerate view or a solid angle below
-/// [`MIN_SOLID_ANGLE`].
+/// `ey`, seen from `p` (zero from a point in its plane).
+pub fn rectangle_solid_angle(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3) -> f32 {
+    RectangleView::new(p, corner, ex, ey).map_or(0.0, |v| v.solid_angle as f32)
+}
+
+/// A point on the rectangle with corner `corner` and perpendicular edges `ex`, `ey`,
+/// uniform over the solid angle it subtends from `p`, with its density (1 / solid angle).
+/// `None` for a degenerate view or a solid angle below [`MIN_SOLID_ANGLE`].
 pub fn sample_rectangle(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3, u: Vec2) -> Option<(Vec3, f32)> {
-    let (exl, eyl) = (ex.length() as f64, ey.length() as f64);
-    let x = ex.as_dvec3() / exl;
-    let y = ey.as_dvec3() / eyl;
-    let mut z = x.cross(y);
-    let d = (corner - p).as_dvec3();
-    let (x0, y0, mut z0) = (d.dot(x), d.dot(y), d.dot(z));
-    // Work with the rectangle below the reference point's local frame.
-    if z0 > 0.0 {
-        z = -z;
-        z0 = -z0;
-    }
-    if z0 == 0.0 {
-        return None;
-    }
-    let (x1, y1) = (x0 + exl, y0 + eyl);
-    let v00 = DVec3::new(x0, y0, z0);
-    let v01 = DVec3::new(x0, y1, z0);
-    let v10 = DVec3::new(x1, y0, z0);
-    let v11 = DVec3::new(x1, y1, z0);
-    let n0 = v00.cross(v10).normalize();
-    let n1 = v10.cross(v11).normalize();
-    let n2 = v11.cross(v01).normalize();
-    let n3 = v01.cross(v00).normalize();
-    let g0 = angle_between(-n0, n1);
-    let g1 = angle_between(-n1, n2);
-    let g2 = angle_between(-n2, n3);
-    let g3 = angle_between(-n3, n0);
-    let solid_angle = g0 + g1 + g2 + g3 - 2.0 * PI;
+    let RectangleView {
+        frame: [x, y, z],
+        x0,
+        x1,
+        y0,
+        y1,
+        z0,
+        b0,
+        b1,
+        g: [g0, g1, g2, g3],
+        solid_angle,
+    } = RectangleView::new(p, corner, ex, ey)?;
     if solid_angle.is_nan() || solid_angle < MIN_SOLID_ANGLE as f64 {
         return None;
     }
-    let (b0, b1) = (n0.z, n2.z);
     // x by inverting the area of the part of the rectangle left of x (u0).
     let au = u.x as f64 * (g0 + g1 - 2.0 * PI) + (u.x as f64 - 1.0) * (g2 + g3);
     let fu = (au.cos() * b0 - b1) / au.sin();
@@ -181,6 +233,8 @@ mod tests {
         )
         .unwrap();
         assert!((1.0 / pdf - 2.0 * PI32 / 3.0).abs() < 1e-5, "{}", 1.0 / pdf);
+        let omega = rectangle_solid_angle(Vec3::ZERO, Vec3::new(-1.0, -1.0, -1.0), 2.0 * Vec3::X, 2.0 * Vec3::Y);
+        assert!((omega - 2.0 * PI32 / 3.0).abs() < 1e-5, "{omega}");
     }
 
     #[test]

@@ -24,20 +24,14 @@ pub const UNIFORM_DISK_PDF: f32 = FRAC_1_PI;
 
 /// A direction uniform over the sphere (Archimedes: z uniform in [-1, 1]). Density 1/(4π).
 pub fn uniform_sphere(u: Vec2) -> Vec3 {
-    let z = 1.0 - 2.0 * u.x;
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * PI * u.y;
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    at_height(1.0 - 2.0 * u.x, u.y)
 }
 
 pub const UNIFORM_SPHERE_PDF: f32 = 1.0 / (4.0 * PI);
 
 /// A direction uniform over the upper (z >= 0) hemisphere. Density 1/(2π).
 pub fn uniform_hemisphere(u: Vec2) -> Vec3 {
-    let z = u.x;
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * PI * u.y;
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    at_height(u.x, u.y)
 }
 
 pub const UNIFORM_HEMISPHERE_PDF: f32 = 1.0 / (2.0 * PI);
@@ -56,9 +50,14 @@ pub fn cosine_hemisphere_pdf(w: Vec3) -> f32 {
 
 /// A direction uniform over the cone of directions within angle acos(`cos_max`) of +z.
 pub fn uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
-    let z = 1.0 - u.x * (1.0 - cos_max);
+    at_height(1.0 - u.x * (1.0 - cos_max), u.y)
+}
+
+/// The unit direction with z-coordinate `z` at azimuth 2π `u_phi`: uniform z and azimuth
+/// give uniform solid angle (Archimedes' hat-box theorem).
+fn at_height(z: f32, u_phi: f32) -> Vec3 {
     let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * PI * u.y;
+    let phi = 2.0 * PI * u_phi;
     Vec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 

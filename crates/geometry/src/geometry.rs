@@ -187,7 +187,9 @@ impl PrimitiveSet for Geometry {
         let meshes: usize = self
             .meshes
             .iter()
-            .map(|(m, _)| m.positions.capacity() * size_of::<glam::Vec3>() + m.indices.capacity() * 12)
+            .map(|(m, _)| {
+                m.positions.capacity() * size_of::<glam::Vec3>() + m.indices.capacity() * size_of::<[u32; 3]>()
+            })
             .sum();
         self.prims.capacity() * size_of::<Prim>()
             + self.shapes.capacity() * size_of::<(Shape, u32)>()

@@ -6,9 +6,9 @@
 //!
 //! The domain is a rectangle cut into equal bins; directions use (cos θ, φ), in which equal
 //! bins have equal solid angle and a solid-angle density needs no Jacobian. The expected
-//! count of a bin is the sample count times the density's integral over the bin, by nested
-//! adaptive Simpson quadrature, so densities with edges (a cone's rim) are integrated
-//! accurately. Bins expecting fewer than five samples are pooled; a sample in a bin whose
+//! count of a bin is the sample count times the density's integral over the bin (an open
+//! Gauss–Legendre rule across, adaptive Simpson along; see [`integrate_2d`]), so densities
+//! with edges (a cone's rim) are integrated accurately. Bins expecting fewer than five samples are pooled; a sample in a bin whose
 //! density integrates to zero fails at once. The statistic is compared with the chi-square
 //! distribution (via `statrs`) at a significance level corrected for the number of tests
 //! run (Šidák).
@@ -237,6 +237,7 @@ mod tests {
     use super::*;
     use std::f32::consts::PI as PI32;
 
+    /// The kit's own uniform sphere: it does not depend on the renderer it tests.
     fn uniform_sphere(u: Vec2) -> Vec3 {
         let z = 1.0 - 2.0 * u.x;
         let r = (1.0 - z * z).max(0.0).sqrt();

@@ -1,5 +1,6 @@
-//! Adaptive Simpson quadrature (Lyness 1969), nested for rectangles: accurate on
-//! integrands with edges, such as a density that is zero outside a cone.
+//! Quadrature for the chi-square test's expected counts: adaptive Simpson (Lyness 1969) in
+//! one dimension, and for rectangles a fixed open rule across adaptive integrals along:
+//! accurate on integrands with edges, such as a density that is zero outside a cone.
 
 /// Initial panels: adaptivity starts from these, so a narrow feature that the first three
 /// points of a single panel would all miss is still seen.

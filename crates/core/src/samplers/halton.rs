@@ -5,7 +5,7 @@
 //! pairs of different dimensions do not correlate.
 
 use super::stratified::permute;
-use super::Key;
+use super::{Key, ONE_MINUS_EPSILON};
 use crate::hash::mix64;
 use glam::Vec2;
 
@@ -25,7 +25,7 @@ fn scrambled_radical_inverse(mut a: u32, base: u32, seed: u64) -> f32 {
         reversed = reversed * base as u64 + permute_digit(digit, base, hash) as u64;
         inv_base_m *= inv_base;
     }
-    ((reversed as f64 * inv_base_m) as f32).min(1.0 - f32::EPSILON / 2.0)
+    ((reversed as f64 * inv_base_m) as f32).min(ONE_MINUS_EPSILON)
 }
 
 /// One of the `base!` permutations of a digit, chosen by `hash` with equal probability
@@ -39,25 +39,21 @@ fn permute_digit(digit: u32, base: u32, hash: u32) -> u32 {
     }
 }
 
-fn seed(key: &Key, k: u64) -> u64 {
-    mix64(key.pattern ^ k.wrapping_mul(0x9E37_79B9_7F4A_7C15))
-}
-
 /// The index permuted within its block of `count` samples (blocks beyond the first serve
 /// progressive renders that go past the planned count).
 fn index(key: &Key) -> u32 {
     let block = key.index / key.count * key.count;
-    block + permute(key.index - block, key.count, seed(key, 0) as u32)
+    block + permute(key.index - block, key.count, key.seed(0) as u32)
 }
 
 pub(super) fn sample_1d(key: &Key) -> f32 {
-    scrambled_radical_inverse(index(key), 2, seed(key, 1))
+    scrambled_radical_inverse(index(key), 2, key.seed(1))
 }
 
 pub(super) fn sample_2d(key: &Key) -> Vec2 {
     let i = index(key);
     Vec2::new(
-        scrambled_radical_inverse(i, 2, seed(key, 1)),
-        scrambled_radical_inverse(i, 3, seed(key, 2)),
+        scrambled_radical_inverse(i, 2, key.seed(1)),
+        scrambled_radical_inverse(i, 3, key.seed(2)),
     )
 }

@@ -50,6 +50,9 @@ impl SamplerKind {
     }
 }
 
+/// The largest float below 1: samplers clamp to it so that values stay in [0, 1).
+pub(super) const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+
 /// Identifies one dimension of one pixel sample: everything a value may depend on.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Key {
@@ -59,6 +62,13 @@ pub(crate) struct Key {
     pub index: u32,
     /// Samples per pixel: the number of strata.
     pub count: u32,
+}
+
+impl Key {
+    /// The `k`-th independent hash of the pattern: a seed for one scramble or permutation.
+    pub fn seed(&self, k: u64) -> u64 {
+        crate::hash::mix64(self.pattern ^ k.wrapping_mul(0x9E37_79B9_7F4A_7C15))
+    }
 }
 
 /// The sampler state for one pixel: cheap to create, one per pixel sample.

@@ -6,7 +6,7 @@
 //! ("padding", as pbrt-v4's padded Sobol sampler does).
 
 use super::Key;
-use crate::hash::{mix64, u32_to_unit as to_unit};
+use crate::hash::u32_to_unit as to_unit;
 use glam::Vec2;
 
 /// Direction numbers of Sobol dimensions 0 and 1 (Joe and Kuo): van der Corput, and the
@@ -59,7 +59,7 @@ pub(super) fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
 }
 
 fn seed(key: &Key, k: u64) -> u32 {
-    mix64(key.pattern ^ k.wrapping_mul(0x9E37_79B9_7F4A_7C15)) as u32
+    key.seed(k) as u32
 }
 
 fn shuffled(key: &Key) -> u32 {

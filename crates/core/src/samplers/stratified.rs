@@ -1,7 +1,7 @@
 //! Stratified samples after Kensler, "Correlated Multi-Jittered Sampling" (Pixar technical
 //! memo 13-01, 2013): any sample count, each sample computed on its own from its index.
 
-use super::Key;
+use super::{Key, ONE_MINUS_EPSILON};
 use glam::Vec2;
 
 /// Sample `index` of `count` jittered strata of [0, 1), the strata visited in a random order.
@@ -27,8 +27,6 @@ pub(super) fn sample_2d(key: &Key) -> Vec2 {
     let y = (s as f32 + jy) / n_total as f32;
     Vec2::new(x.min(ONE_MINUS_EPSILON), y.min(ONE_MINUS_EPSILON))
 }
-
-const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// A pseudo-random permutation of [0, l) indexed by `i`, keyed by `p` (Kensler, listing 3).
 pub(super) fn permute(mut i: u32, l: u32, p: u32) -> u32 {

@@ -204,8 +204,8 @@ impl Tree {
     }
 }
 
-/// The build's shared state: the primitives, and the nodes and items made so far over all
-/// threads (indices must fit in 30 bits).
+/// The build's shared state: the primitives, and the nodes plus leaf items made so far
+/// over all threads (node and item indices must fit in 30 bits).
 struct Build<'a, P> {
     prims: &'a P,
     size: AtomicUsize,
@@ -218,7 +218,9 @@ impl<P: PrimitiveSet> Build<'_, P> {
     #[allow(clippy::too_many_arguments)]
     fn node(&self, ev: Events, n: usize, bounds: Aabb, depth: Depth, forks: u32, side: &mut [u8], out: &mut Tree) {
         let leaf_cost = INTERSECT_COST * n as f32;
-        let full = self.size.fetch_add(1 + n, Ordering::Relaxed) + 2 * n + 2 >= MAX_INDEX;
+        // Close to the limit every node becomes a leaf (its n items plus a margin for
+        // the subtrees other threads are building).
+        let full = self.size.fetch_add(1, Ordering::Relaxed) + 2 * n + 2 >= MAX_INDEX;
         let split = if n <= 1 || depth.splits == 0 || depth.levels == 0 || full {
             None
         } else {
@@ -228,6 +230,7 @@ impl<P: PrimitiveSet> Build<'_, P> {
             axis, pos, planar_left, ..
         }) = split
         else {
+            self.size.fetch_add(n, Ordering::Relaxed);
             return out.leaf(&ev);
         };
         // Classify by one pass over the split axis's events (their algorithm 5).

@@ -10,9 +10,9 @@ use glam::{Vec2, Vec3};
 use penumbra_core::{spherical, warp, Frame};
 use std::f32::consts::PI;
 
-/// An emitting surface in world space.
+/// The geometry of an emitting surface, in world space.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Emitter {
+pub enum EmitterShape {
     /// `corner + s e1 + t e2`, s, t in [0, 1]; front side `e1 x e2`.
     Quad { corner: Vec3, e1: Vec3, e2: Vec3 },
     /// `center + x a1 + y a2`, x² + y² <= 1 (an ellipse under shear); front side `a1 x a2`.
@@ -21,6 +21,17 @@ pub enum Emitter {
     Triangle { v: [Vec3; 3] },
     /// Emits outwards.
     Sphere { center: Vec3, radius: f32 },
+}
+
+/// An emitting surface with what sampling needs of it worked out once, at scene setup.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Emitter {
+    shape: EmitterShape,
+    area: f32,
+    /// Unit front normal of a planar shape (zero for a sphere).
+    normal: Vec3,
+    /// A quad with perpendicular edges, which is sampled as a spherical rectangle.
+    rectangle: bool,
 }
 
 /// A point on an emitter and the density of the direction towards it.
@@ -34,29 +45,51 @@ pub struct EmitterSample {
 }
 
 impl Emitter {
-    pub fn area(&self) -> f32 {
-        match self {
-            Emitter::Quad { e1, e2, .. } => e1.cross(*e2).length(),
-            Emitter::Disk { a1, a2, .. } => PI * a1.cross(*a2).length(),
-            Emitter::Triangle { v } => 0.5 * (v[1] - v[0]).cross(v[2] - v[0]).length(),
-            Emitter::Sphere { radius, .. } => 4.0 * PI * radius * radius,
+    /// `None` for a shape without area (or with non-finite area).
+    pub fn new(shape: EmitterShape) -> Option<Self> {
+        let (area, front) = match &shape {
+            EmitterShape::Quad { e1, e2, .. } => (e1.cross(*e2).length(), e1.cross(*e2)),
+            EmitterShape::Disk { a1, a2, .. } => (PI * a1.cross(*a2).length(), a1.cross(*a2)),
+            EmitterShape::Triangle { v } => {
+                let n = (v[1] - v[0]).cross(v[2] - v[0]);
+                (0.5 * n.length(), n)
+            }
+            EmitterShape::Sphere { radius, .. } => (4.0 * PI * radius * radius, Vec3::ZERO),
+        };
+        if !(area.is_finite() && area > 0.0) {
+            return None;
         }
+        let rectangle = matches!(&shape, EmitterShape::Quad { e1, e2, .. }
+            if e1.dot(*e2).abs() <= 1e-5 * e1.length() * e2.length());
+        Some(Emitter {
+            normal: front.normalize_or_zero(),
+            shape,
+            area,
+            rectangle,
+        })
+    }
+
+    pub fn shape(&self) -> &EmitterShape {
+        &self.shape
+    }
+
+    pub fn area(&self) -> f32 {
+        self.area
     }
 
     /// A point uniform by area, and its unit normal; density 1 / area per unit area.
     pub fn sample_area(&self, u: Vec2) -> (Vec3, Vec3) {
-        match self {
-            Emitter::Quad { corner, e1, e2 } => (*corner + u.x * *e1 + u.y * *e2, e1.cross(*e2).normalize()),
-            Emitter::Disk { center, a1, a2 } => {
+        match &self.shape {
+            EmitterShape::Quad { corner, e1, e2 } => (*corner + u.x * *e1 + u.y * *e2, self.normal),
+            EmitterShape::Disk { center, a1, a2 } => {
                 let d = warp::uniform_disk(u);
-                (*center + d.x * *a1 + d.y * *a2, a1.cross(*a2).normalize())
+                (*center + d.x * *a1 + d.y * *a2, self.normal)
             }
-            Emitter::Triangle { v } => {
+            EmitterShape::Triangle { v } => {
                 let b = warp::uniform_triangle(u);
-                let p = (1.0 - b.x - b.y) * v[0] + b.x * v[1] + b.y * v[2];
-                (p, (v[1] - v[0]).cross(v[2] - v[0]).normalize())
+                ((1.0 - b.x - b.y) * v[0] + b.x * v[1] + b.y * v[2], self.normal)
             }
-            Emitter::Sphere { center, radius } => {
+            EmitterShape::Sphere { center, radius } => {
                 let n = warp::uniform_sphere(u);
                 (*center + *radius * n, n)
             }
@@ -69,7 +102,7 @@ impl Emitter {
         let d = point - p;
         let dist2 = d.length_squared();
         let cos = (normal.dot(d) / dist2.sqrt()).abs();
-        (cos > 0.0 && dist2 > 0.0).then(|| dist2 / (cos * self.area()))
+        (cos > 0.0 && dist2 > 0.0).then(|| dist2 / (cos * self.area))
     }
 
     /// A point uniform by area, with the solid-angle density of its direction from `p`.
@@ -79,89 +112,79 @@ impl Emitter {
         Some(EmitterSample { point, normal, pdf })
     }
 
-    /// A point whose direction from `p` is uniform over the solid angle the emitter
-    /// subtends (for a sphere: over the cone of directions to its visible cap). Shapes
-    /// with no such method (disks) and polygons too small or far for it fall back to
-    /// [`Emitter::sample_uniform`].
-    pub fn sample_solid_angle(&self, p: Vec3, u: Vec2) -> Option<EmitterSample> {
-        match self {
-            Emitter::Sphere { center, radius } => {
-                let to_center = *center - p;
-                let dist2 = to_center.length_squared();
-                if dist2 <= radius * radius {
-                    // Inside the sphere every direction reaches it: fall back to area.
-                    return self.sample_uniform(p, u);
-                }
-                let dist = dist2.sqrt();
-                let sin_max2 = radius * radius / dist2;
-                let cos_max = (1.0 - sin_max2).max(0.0).sqrt();
-                let frame = Frame::from_normal(to_center / dist);
-                let w = frame.to_world(warp::uniform_cone(u, cos_max));
-                // The nearer intersection of the ray p + t w with the sphere (pbrt-v4's
-                // form, stable for small caps): distance along w to the closest point minus
-                // half the chord.
-                let along = w.dot(to_center);
-                let chord = (radius * radius - (dist2 - along * along)).max(0.0).sqrt();
-                let point = p + (along - chord) * w;
-                let normal = (point - *center).normalize();
-                let pdf = 1.0 / (2.0 * PI * (1.0 - cos_max));
-                (pdf.is_finite() && cos_max < 1.0).then_some(EmitterSample { point, normal, pdf })
+    /// For a sphere seen from outside: the cosine of the half-angle of the cone it fills.
+    fn cone_cos_max(&self, p: Vec3) -> Option<f32> {
+        let EmitterShape::Sphere { center, radius } = &self.shape else {
+            return None;
+        };
+        let dist2 = (*center - p).length_squared();
+        let cos_max = (1.0 - radius * radius / dist2).max(0.0).sqrt();
+        (dist2 > radius * radius && cos_max < 1.0).then_some(cos_max)
+    }
+
+    /// Whether [`Emitter::sample_solid_angle`] samples the solid angle from `p`, and if so
+    /// its (constant) density there; `None` means it falls back to area sampling: disks and
+    /// sheared quads, a point inside a sphere, polygons too small or far to sample well.
+    fn solid_angle_density(&self, p: Vec3) -> Option<f32> {
+        let omega = match &self.shape {
+            EmitterShape::Sphere { .. } => 2.0 * PI * (1.0 - self.cone_cos_max(p)?),
+            EmitterShape::Triangle { v } => spherical::triangle_solid_angle(p, *v),
+            EmitterShape::Quad { corner, e1, e2 } if self.rectangle => {
+                spherical::rectangle_solid_angle(p, *corner, *e1, *e2)
             }
-            Emitter::Triangle { v } => {
-                let (w, pdf) = match spherical::sample_triangle(p, *v, u) {
-                    Some(s) => s,
-                    None => return self.sample_uniform(p, u),
-                };
-                let normal = (v[1] - v[0]).cross(v[2] - v[0]).normalize();
-                let t = (v[0] - p).dot(normal) / w.dot(normal);
+            _ => return None,
+        };
+        (omega >= spherical::MIN_SOLID_ANGLE).then(|| 1.0 / omega)
+    }
+
+    /// A point whose direction from `p` is uniform over the solid angle the emitter
+    /// subtends (for a sphere: over the cone of directions to its visible cap), or by area
+    /// where the shape or view has no such method (see `solid_angle_density`).
+    pub fn sample_solid_angle(&self, p: Vec3, u: Vec2) -> Option<EmitterSample> {
+        let sample = match (&self.shape, self.solid_angle_density(p)) {
+            (_, None) => None,
+            (EmitterShape::Sphere { center, radius }, Some(pdf)) => {
+                let to_center = *center - p;
+                let cos_max = self.cone_cos_max(p)?;
+                let w = Frame::from_normal(to_center.normalize()).to_world(warp::uniform_cone(u, cos_max));
+                // The nearer intersection of p + t w with the sphere: distance along w to
+                // the point closest to the centre, minus half the chord.
+                let along = w.dot(to_center);
+                let chord = (radius * radius - (to_center.length_squared() - along * along))
+                    .max(0.0)
+                    .sqrt();
+                let point = p + (along - chord) * w;
                 Some(EmitterSample {
-                    point: p + t * w,
-                    normal,
+                    point,
+                    normal: (point - *center).normalize(),
                     pdf,
                 })
             }
-            Emitter::Quad { corner, e1, e2 } if e1.dot(*e2).abs() <= 1e-5 * e1.length() * e2.length() => {
-                match spherical::sample_rectangle(p, *corner, *e1, *e2, u) {
-                    Some((point, pdf)) => Some(EmitterSample {
-                        point,
-                        normal: e1.cross(*e2).normalize(),
-                        pdf,
-                    }),
-                    None => self.sample_uniform(p, u),
+            (EmitterShape::Triangle { v }, Some(_)) => spherical::sample_triangle(p, *v, u).map(|(w, pdf)| {
+                let t = (v[0] - p).dot(self.normal) / w.dot(self.normal);
+                EmitterSample {
+                    point: p + t * w,
+                    normal: self.normal,
+                    pdf,
                 }
-            }
-            _ => self.sample_uniform(p, u),
-        }
+            }),
+            (EmitterShape::Quad { corner, e1, e2 }, Some(_)) => spherical::sample_rectangle(p, *corner, *e1, *e2, u)
+                .map(|(point, pdf)| EmitterSample {
+                    point,
+                    normal: self.normal,
+                    pdf,
+                }),
+            (EmitterShape::Disk { .. }, Some(_)) => None,
+        };
+        sample.or_else(|| self.sample_uniform(p, u))
     }
 
     /// The density [`Emitter::sample_solid_angle`] gives the direction from `p` to `point`
     /// (a point of the emitter, normal `normal`): what multiple importance sampling needs
     /// for a direction found another way.
     pub fn solid_angle_pdf(&self, p: Vec3, point: Vec3, normal: Vec3) -> f32 {
-        match self {
-            Emitter::Sphere { center, radius } => {
-                let dist2 = (*center - p).length_squared();
-                if dist2 <= radius * radius {
-                    return self.area_pdf_to_solid_angle(p, point, normal).unwrap_or(0.0);
-                }
-                let cos_max = (1.0 - radius * radius / dist2).max(0.0).sqrt();
-                1.0 / (2.0 * PI * (1.0 - cos_max))
-            }
-            Emitter::Triangle { v } => {
-                let omega = spherical::triangle_solid_angle(p, *v);
-                if omega >= spherical::MIN_SOLID_ANGLE {
-                    1.0 / omega
-                } else {
-                    self.area_pdf_to_solid_angle(p, point, normal).unwrap_or(0.0)
-                }
-            }
-            Emitter::Quad { corner, e1, e2 } if e1.dot(*e2).abs() <= 1e-5 * e1.length() * e2.length() => {
-                match spherical::sample_rectangle(p, *corner, *e1, *e2, Vec2::splat(0.5)) {
-                    Some((_, pdf)) => pdf,
-                    None => self.area_pdf_to_solid_angle(p, point, normal).unwrap_or(0.0),
-                }
-            }
-            _ => self.area_pdf_to_solid_angle(p, point, normal).unwrap_or(0.0),
-        }
+        self.solid_angle_density(p)
+            .or_else(|| self.area_pdf_to_solid_angle(p, point, normal))
+            .unwrap_or(0.0)
     }
 }
