@@ -63,6 +63,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             kind,
             transform,
             material,
+            emission: None,
             location: None,
         })
     };

@@ -39,6 +39,7 @@ fn add(d: &mut SceneDesc, kind: ShapeKind, material: Phong) {
     d.shapes.push(ShapeDesc {
         kind,
         transform: Transform::IDENTITY,
+        emission: None,
         material: Some(d.materials.len() - 1),
         location: None,
     });

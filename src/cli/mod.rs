@@ -54,9 +54,23 @@ pub struct RenderArgs {
     /// Random seed; the same seed, scene and sample count give the same image.
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Integrator: whitted.
+    /// Integrator: whitted (the default scene's), direct (Monte Carlo direct lighting).
     #[arg(long)]
     pub integrator: Option<String>,
+    /// How `direct` samples the lights: mis (default), grid, uniform, stratified,
+    /// solid-angle, bsdf.
+    #[arg(long)]
+    pub light_sampling: Option<String>,
+    /// Shadow rays per light per pixel sample for `direct` (default 1; a square for grid).
+    #[arg(long, value_parser = parse_light_samples)]
+    pub light_samples: Option<u32>,
+    /// Weighting of `mis` light sampling: power (default) or balance.
+    #[arg(long)]
+    pub mis_heuristic: Option<String>,
+    /// Which light each shadow ray goes to: power (default; picked in proportion to its
+    /// power), uniform (light objects equally likely), all (every light object gets its own).
+    #[arg(long)]
+    pub light_selection: Option<String>,
     /// Maximum number of reflection/refraction bounces after the camera ray (default 5, at
     /// most 256).
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=penumbra::renderer::integrators::MAX_DEPTH_LIMIT as i64))]
@@ -100,6 +114,14 @@ fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
         return Err(format!("{w}x{h} is more than {max_pixels} pixels"));
     }
     Ok((w, h))
+}
+
+fn parse_light_samples(s: &str) -> Result<u32, String> {
+    match s.parse::<u32>() {
+        Ok(n) if (1..=1 << 16).contains(&n) => Ok(n),
+        Ok(0) => Err("at least one shadow ray per light is needed (e.g. 1, 4, 16)".into()),
+        _ => Err(format!("`{s}` is not a whole number from 1 to 65536")),
+    }
 }
 
 fn parse_finite(s: &str) -> Result<f32, String> {

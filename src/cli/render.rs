@@ -4,7 +4,8 @@ use super::progress::Reporter;
 use super::{Failure, RenderArgs};
 use penumbra::geometry::AccelKind;
 use penumbra::math::SamplerKind;
-use penumbra::renderer::integrators::IntegratorKind;
+use penumbra::renderer::integrators::{IntegratorKind, LightSampling, MisHeuristic};
+use penumbra::renderer::lights::LightSelection;
 use penumbra::scene::image_io::{write_image, Image, ImageFormat};
 use penumbra::scene::SceneDesc;
 use penumbra::RenderControl;
@@ -67,6 +68,35 @@ fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) -> Result<(), Failur
     if let Some(k) = pick(&args.sampler, "sampler", &SamplerKind::NAMES, SamplerKind::from_name)? {
         r.sampler = k;
     }
+    let d = &mut r.direct;
+    if let Some(k) = pick(
+        &args.light_sampling,
+        "light-sampling",
+        &LightSampling::NAMES,
+        LightSampling::from_name,
+    )? {
+        d.sampling = k;
+    }
+    if let Some(n) = args.light_samples {
+        d.light_samples = n;
+    }
+    if let Some(k) = pick(
+        &args.mis_heuristic,
+        "mis-heuristic",
+        &MisHeuristic::NAMES,
+        MisHeuristic::from_name,
+    )? {
+        d.heuristic = k;
+    }
+    if let Some(k) = pick(
+        &args.light_selection,
+        "light-selection",
+        &LightSelection::NAMES,
+        LightSelection::from_name,
+    )? {
+        d.selection = k;
+    }
+    d.check().map_err(|e| bad(format!("--light-samples: {e}")))?;
     Ok(())
 }
 

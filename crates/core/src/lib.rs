@@ -6,6 +6,7 @@
 
 pub mod bounds;
 pub mod color;
+pub mod distribution;
 pub mod frame;
 pub mod hash;
 pub mod ray;
@@ -17,6 +18,7 @@ pub mod warp;
 
 pub use bounds::Aabb;
 pub use color::Rgb;
+pub use distribution::Distribution1D;
 pub use frame::Frame;
 pub use glam::{Mat3, Mat4, UVec2, Vec2, Vec3};
 pub use ray::Ray;

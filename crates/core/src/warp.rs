@@ -53,6 +53,21 @@ pub fn uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
     at_height(1.0 - u.x * (1.0 - cos_max), u.y)
 }
 
+/// A direction about +z with density (n + 1)/(2π) cos^n θ over the upper hemisphere: the
+/// lobe of the normalized Phong BRDF (Lafortune and Willems 1994), cos θ = u^(1/(n+1)).
+pub fn phong_lobe(u: Vec2, exponent: f32) -> Vec3 {
+    at_height(u.x.powf(1.0 / (exponent + 1.0)), u.y)
+}
+
+/// Density of [`phong_lobe`] at `w`.
+pub fn phong_lobe_pdf(w: Vec3, exponent: f32) -> f32 {
+    if w.z > 0.0 {
+        (exponent + 1.0) / (2.0 * PI) * w.z.powf(exponent)
+    } else {
+        0.0
+    }
+}
+
 /// The unit direction with z-coordinate `z` at azimuth 2π `u_phi`: uniform z and azimuth
 /// give uniform solid angle (Archimedes' hat-box theorem).
 fn at_height(z: f32, u_phi: f32) -> Vec3 {
@@ -89,7 +104,7 @@ mod tests {
     use penumbra_testkit::{chi2_directions, chi2_test, Grid2, Uniforms};
 
     /// Chi-square tests run in this module, for the significance correction.
-    const TESTS: usize = 8;
+    const TESTS: usize = 11;
     const N: usize = 400_000;
 
     #[test]
@@ -115,6 +130,11 @@ mod tests {
             );
             r.assert_fits(&format!("cone, cos_max {cos_max}"), TESTS);
             assert!((r.integral - 1.0).abs() < 1e-3, "cone {cos_max}: {}", r.describe());
+        }
+        for (seed, n) in [(8, 1.0f32), (9, 10.0), (10, 60.0)] {
+            let r = chi2_directions(seed, N, |u| Some(phong_lobe(u, n)), |w| phong_lobe_pdf(w, n));
+            r.assert_fits(&format!("Phong lobe, exponent {n}"), TESTS);
+            assert!((r.integral - 1.0).abs() < 1e-3, "Phong {n}: {}", r.describe());
         }
     }
 

@@ -102,6 +102,7 @@ impl Geometry {
                     ns: surf.n,
                     uv: surf.uv,
                     object: *object,
+                    triangle: 0,
                 }
             }
             Prim::Triangle { mesh, tri } => {
@@ -113,6 +114,7 @@ impl Geometry {
                     ns,
                     uv,
                     object: *object,
+                    triangle: tri,
                 }
             }
             Prim::Instance(i) => {
@@ -124,6 +126,7 @@ impl Geometry {
                     ns,
                     uv,
                     object: *object,
+                    triangle: hit.sub,
                 }
             }
         }

@@ -27,4 +27,6 @@ pub struct SurfaceHit {
     pub uv: Vec2,
     /// The scene object (shape, mesh or instance) that was hit, as numbered by the builder.
     pub object: u32,
+    /// The triangle within the object for meshes and instances; 0 for analytic shapes.
+    pub triangle: u32,
 }

@@ -1,7 +1,8 @@
 //! The renderable scene: camera, film settings, geometry with its accelerator, materials
 //! and lights. Built from a scene description by `penumbra-scene`.
 
-use crate::{Camera, Filter, Light, Material};
+use crate::lights::{AreaLight, LightSet};
+use crate::{Camera, Filter, Material};
 use glam::Vec3;
 use penumbra_core::{Ray, Rgb};
 use penumbra_geometry::{Accel, Geometry, SurfaceHit};
@@ -17,7 +18,7 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// The material of each scene object (as numbered by the geometry builder).
     pub object_materials: Vec<u32>,
-    pub lights: Vec<Light>,
+    pub lights: LightSet,
     /// Radiance of rays that leave the scene.
     pub background: Rgb,
     /// Ambient light, reflected by the diffuse albedo of every surface.
@@ -42,6 +43,18 @@ impl Scene {
             surface,
             material,
             wo: -ray.dir.normalize(),
+        })
+    }
+
+    /// The area light at the surface `it` hit, with its index in [`Scene::lights`].
+    pub fn emitter_at(&self, it: &Interaction) -> Option<(u32, &AreaLight)> {
+        self.lights.emitter_of(it.surface.object, it.surface.triangle)
+    }
+
+    /// Radiance the surface `it` hit emits back along the ray.
+    pub fn emitted(&self, it: &Interaction) -> Rgb {
+        self.emitter_at(it).map_or(Rgb::BLACK, |(_, light)| {
+            light.le(light.emitter.normal_at(it.surface.p), it.wo)
         })
     }
 

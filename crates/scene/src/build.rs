@@ -3,12 +3,13 @@
 //! set up.
 
 use crate::desc::{CameraKind, LightDesc, SceneDesc, ShapeKind};
+use crate::emitters::area_lights;
 use crate::{Location, SceneError};
-use penumbra_core::Transform;
+use penumbra_core::{Aabb, Transform};
 use penumbra_geometry::shapes::{Cuboid, Disk, Plane, Quad, Sphere};
-use penumbra_geometry::{GeometryBuilder, Instance, MeshAccel, Shape};
+use penumbra_geometry::{GeometryBuilder, Instance, MeshAccel, PrimitiveSet, Shape};
 use penumbra_render::cameras::{Orthographic, Perspective};
-use penumbra_render::lights::{Directional, Point, Spot};
+use penumbra_render::lights::{Directional, LightSetBuilder, Point, Spot};
 use penumbra_render::materials::Phong;
 use penumbra_render::{Camera, Light, Material, Scene};
 use std::sync::Arc;
@@ -23,6 +24,7 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         },
     };
 
+    desc.render.direct.check().map_err(|e| fail(&None, &e))?;
     let mut materials: Vec<Material> = desc.materials.iter().map(|m| m.material.clone()).collect();
     let default_material = materials.len() as u32;
     materials.push(Material::Phong(Phong::default()));
@@ -45,6 +47,7 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         .collect();
     let mut builder = GeometryBuilder::new();
     let mut object_materials = Vec::with_capacity(desc.shapes.len());
+    let mut emitters = Vec::new();
     for s in &desc.shapes {
         let t = &s.transform;
         let degenerate = |what: &str| fail(&s.location, &format!("the {what} is degenerate under its transform"));
@@ -74,9 +77,23 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         };
         debug_assert_eq!(object as usize, object_materials.len());
         object_materials.push(s.material.map_or(default_material, |m| m as u32));
+        if let Some(emission) = s.emission {
+            let area = area_lights(&s.kind, t, emission, &desc.meshes).map_err(|e| fail(&s.location, &e))?;
+            emitters.push((object, area));
+        }
     }
     let geometry = Arc::new(builder.build());
     let accel = geometry.accel(desc.render.accel);
+    // The finite part of the scene's extent sizes the power of directional lights.
+    let extent = (0..geometry.len() as u32)
+        .map(|i| geometry.bounds(i))
+        .filter(|b| b.is_finite())
+        .fold(Aabb::EMPTY, |a, b| a.union(b));
+    let scene_radius = if extent.is_finite() && !extent.is_empty() {
+        0.5 * extent.extent().length()
+    } else {
+        1.0
+    };
 
     let r = &desc.render;
     let c = &desc.camera;
@@ -95,30 +112,33 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         }
     };
 
-    let lights = desc
-        .lights
-        .iter()
-        .map(|l| match *l {
-            LightDesc::Point { position, intensity } => Light::Point(Point { position, intensity }),
-            LightDesc::Spot {
-                position,
-                target,
-                intensity,
-                cone_angle,
-                falloff_start,
-            } => Light::Spot(Spot::new(
-                position,
-                target - position,
-                intensity,
-                cone_angle,
-                falloff_start,
-            )),
-            LightDesc::Directional { direction, irradiance } => Light::Directional(Directional {
-                direction: direction.normalize(),
-                irradiance,
-            }),
-        })
-        .collect();
+    let mut lights = LightSetBuilder::new(scene_radius);
+    for (object, area) in emitters {
+        lights.add_emitter(object, area);
+    }
+    for light in desc.lights.iter().map(|l| match *l {
+        LightDesc::Point { position, intensity } => Light::Point(Point { position, intensity }),
+        LightDesc::Spot {
+            position,
+            target,
+            intensity,
+            cone_angle,
+            falloff_start,
+        } => Light::Spot(Spot::new(
+            position,
+            target - position,
+            intensity,
+            cone_angle,
+            falloff_start,
+        )),
+        LightDesc::Directional { direction, irradiance } => Light::Directional(Directional {
+            direction: direction.normalize(),
+            irradiance,
+        }),
+    }) {
+        lights.add(light);
+    }
+    let lights = lights.build();
 
     Ok(Scene {
         camera,

@@ -7,7 +7,7 @@ use glam::Vec3;
 use penumbra_core::{Rgb, SamplerKind, Transform};
 use penumbra_geometry::{AccelKind, TriangleMesh};
 use penumbra_render::cameras::FovAxis;
-use penumbra_render::integrators::IntegratorKind;
+use penumbra_render::integrators::{DirectOptions, IntegratorKind};
 use penumbra_render::{Filter, Material};
 use std::sync::Arc;
 
@@ -39,6 +39,8 @@ pub struct RenderDesc {
     pub sampler: SamplerKind,
     pub filter: Filter,
     pub accel: AccelKind,
+    /// Settings of the `direct` integrator.
+    pub direct: DirectOptions,
 }
 
 impl Default for RenderDesc {
@@ -54,6 +56,7 @@ impl Default for RenderDesc {
             sampler: SamplerKind::default(),
             filter: Filter::default(),
             accel: AccelKind::default(),
+            direct: DirectOptions::default(),
         }
     }
 }
@@ -101,7 +104,16 @@ pub struct ShapeDesc {
     pub transform: Transform,
     /// Index into [`SceneDesc::materials`]; `None` for the default material.
     pub material: Option<usize>,
+    /// Light the surface emits, if it is an area light.
+    pub emission: Option<Emission>,
     pub location: Option<Location>,
+}
+
+/// Diffuse emission: constant radiance from the front side, or from both sides.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Emission {
+    pub radiance: Rgb,
+    pub two_sided: bool,
 }
 
 #[derive(Clone, Debug)]

@@ -6,6 +6,7 @@
 
 mod build;
 pub mod desc;
+mod emitters;
 mod error;
 pub mod formats;
 pub mod image_io;

@@ -51,7 +51,7 @@ impl SamplerKind {
 }
 
 /// The largest float below 1: samplers clamp to it so that values stay in [0, 1).
-pub(super) const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// Identifies one dimension of one pixel sample: everything a value may depend on.
 #[derive(Clone, Copy, Debug)]

@@ -3,12 +3,18 @@
 //! Integrators are the one open family (a trait object); each is a file here, one variant
 //! in [`IntegratorKind`] and one arm in [`IntegratorKind::create`].
 
+mod direct;
 mod whitted;
 
+pub use direct::{Direct, DirectOptions, LightSampling, MisHeuristic};
 pub use whitted::Whitted;
 
+use crate::lights::LightSample;
+use crate::materials::Phong;
 use crate::Scene;
+use glam::Vec3;
 use penumbra_core::{PixelSampler, Ray, Rgb};
+use penumbra_geometry::SurfaceHit;
 
 /// Rays traced, by kind.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -47,6 +53,8 @@ pub struct IntegratorOptions {
     pub max_depth: u32,
     /// Rays whose accumulated weight falls below this are not traced.
     pub min_weight: f32,
+    /// Settings of the `direct` integrator.
+    pub direct: DirectOptions,
 }
 
 impl Default for IntegratorOptions {
@@ -54,6 +62,7 @@ impl Default for IntegratorOptions {
         IntegratorOptions {
             max_depth: 5,
             min_weight: 1e-3,
+            direct: DirectOptions::default(),
         }
     }
 }
@@ -62,14 +71,16 @@ impl Default for IntegratorOptions {
 pub enum IntegratorKind {
     #[default]
     Whitted,
+    Direct,
 }
 
 impl IntegratorKind {
-    pub const NAMES: [&'static str; 1] = ["whitted"];
+    pub const NAMES: [&'static str; 2] = ["whitted", "direct"];
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "whitted" => Some(IntegratorKind::Whitted),
+            "direct" => Some(IntegratorKind::Direct),
             _ => None,
         }
     }
@@ -77,6 +88,45 @@ impl IntegratorKind {
     pub fn create(self, options: IntegratorOptions) -> Box<dyn Integrator> {
         match self {
             IntegratorKind::Whitted => Box::new(Whitted { options }),
+            IntegratorKind::Direct => Box::new(Direct { options }),
         }
     }
+}
+
+/// The shadow ray from the surface `s` towards the light of `ls`, and its `t_max`.
+pub(crate) fn shadow_ray(s: &SurfaceHit, ls: &LightSample) -> (Ray, f32) {
+    if ls.dist.is_finite() {
+        Ray::spawn_to(s.p, s.ng, s.p + ls.wi * ls.dist)
+    } else {
+        (Ray::spawn(s.p, s.ng, ls.wi), f32::INFINITY)
+    }
+}
+
+/// The radiance the perfectly specular rays of `m` at `s` bring back towards `wo` (mirror
+/// reflection, Fresnel-weighted reflection and refraction), each traced by `trace(ray,
+/// accumulated weight, counts)`; nothing beyond `max_depth` bounces or below `min_weight`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn specular_bounces(
+    options: &IntegratorOptions,
+    m: &Phong,
+    s: &SurfaceHit,
+    wo: Vec3,
+    depth: u32,
+    beta: Rgb,
+    counts: &mut RayCounts,
+    mut trace: impl FnMut(&Ray, Rgb, &mut RayCounts) -> Rgb,
+) -> Rgb {
+    let mut radiance = Rgb::BLACK;
+    if depth >= options.max_depth {
+        return radiance;
+    }
+    for r in m.specular_rays(s.ns, wo) {
+        let weight = beta * r.weight;
+        if weight.max_component() < options.min_weight {
+            continue;
+        }
+        counts.secondary += 1;
+        radiance += r.weight * trace(&Ray::spawn(s.p, s.ng, r.wi), weight, counts);
+    }
+    radiance
 }

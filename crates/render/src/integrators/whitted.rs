@@ -2,13 +2,14 @@
 //! Display"), as the course teaches it: at each hit, local diffuse + Phong shading from
 //! every light gated by a binary shadow ray, plus recursively traced mirror reflection and
 //! Fresnel-weighted refraction. Recursion stops at `max_depth` bounces or when a ray's
-//! accumulated weight falls below `min_weight`.
+//! accumulated weight falls below `min_weight`. Area lights shine as a point light at the
+//! centre of each (of each triangle, for a mesh), and are seen directly with their radiance.
 
-use super::{Integrator, IntegratorOptions, RayCounts};
+use super::{shadow_ray, specular_bounces, Integrator, IntegratorOptions, RayCounts};
+use crate::lights::AreaSampling;
 use crate::materials::Material;
 use crate::Scene;
 use glam::Vec2;
-use penumbra_core::ray::SHADOW_EPSILON;
 use penumbra_core::{PixelSampler, Ray, Rgb};
 
 pub struct Whitted {
@@ -35,13 +36,13 @@ impl Whitted {
         let n = if s.ns.dot(wo) < 0.0 { -s.ns } else { s.ns };
         let ng = if s.ng.dot(wo) < 0.0 { -s.ng } else { s.ng };
 
-        let mut radiance = scene.ambient * m.albedo(s.uv);
-        for light in &scene.lights {
-            let Some(ls) = light.sample_li(s.p, Vec2::ZERO) else {
+        let mut radiance = scene.emitted(&it) + scene.ambient * m.albedo(s.uv);
+        for light in scene.lights.lights() {
+            let Some(ls) = light.sample_li(s.p, Vec2::splat(0.5), AreaSampling::SolidAngle) else {
                 continue;
             };
             let cos = n.dot(ls.wi);
-            if cos <= 0.0 || ng.dot(ls.wi) <= 0.0 {
+            if cos <= 0.0 || ng.dot(ls.wi) <= 0.0 || ls.li.is_black() {
                 continue;
             }
             let f = m.eval(s.uv, n, wo, ls.wi);
@@ -49,23 +50,17 @@ impl Whitted {
                 continue;
             }
             counts.shadow += 1;
-            let shadow = Ray::spawn(s.p, s.ng, ls.wi);
-            if !scene.occluded(&shadow, ls.dist * (1.0 - SHADOW_EPSILON)) {
-                radiance += f * ls.li * cos;
+            let (shadow, t_max) = shadow_ray(s, &ls);
+            if !scene.occluded(&shadow, t_max) {
+                // An area light's sample is a point on it: divide by its density, as a
+                // point light of intensity L A cos θ_light.
+                radiance += f * ls.li * (cos / ls.pdf);
             }
         }
 
-        if depth < self.options.max_depth {
-            for r in m.specular_rays(s.ns, wo) {
-                let weight = beta * r.weight;
-                if weight.max_component() < self.options.min_weight {
-                    continue;
-                }
-                counts.secondary += 1;
-                let next = Ray::spawn(s.p, s.ng, r.wi);
-                radiance += r.weight * self.trace(scene, &next, depth + 1, weight, counts);
-            }
-        }
         radiance
+            + specular_bounces(&self.options, m, s, wo, depth, beta, counts, |next, weight, counts| {
+                self.trace(scene, next, depth + 1, weight, counts)
+            })
     }
 }

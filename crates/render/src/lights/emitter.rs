@@ -77,6 +77,14 @@ impl Emitter {
         self.area
     }
 
+    /// The unit front normal at `point`, a point of the emitter.
+    pub fn normal_at(&self, point: Vec3) -> Vec3 {
+        match &self.shape {
+            EmitterShape::Sphere { center, .. } => (point - *center).normalize_or_zero(),
+            _ => self.normal,
+        }
+    }
+
     /// A point uniform by area, and its unit normal; density 1 / area per unit area.
     pub fn sample_area(&self, u: Vec2) -> (Vec3, Vec3) {
         match &self.shape {

@@ -1,18 +1,23 @@
 //! Lights. Point-like lights (point, spot, directional) are delta distributions: a shading
-//! point receives light from exactly one direction, tested by one shadow ray.
+//! point receives light from exactly one direction, tested by one shadow ray. Area lights
+//! ([`AreaLight`]) are emitting surfaces, sampled by area or by solid angle.
 //!
 //! Adding a light: a new file with `sample_li` and `power`, a variant in [`Light`] and an
 //! arm in each match.
 
+mod area;
 mod directional;
 pub mod emitter;
 #[cfg(test)]
 mod emitter_tests;
 mod point;
+mod set;
 mod spot;
 
+pub use area::{AreaLight, AreaSampling};
 pub use directional::Directional;
 pub use point::Point;
+pub use set::{LightSelection, LightSet, LightSetBuilder};
 pub use spot::Spot;
 
 use glam::{Vec2, Vec3};
@@ -37,16 +42,23 @@ pub enum Light {
     Point(Point),
     Spot(Spot),
     Directional(Directional),
+    Area(AreaLight),
 }
 
 impl Light {
-    /// Light arriving at `p`; `u` chooses the point on area lights.
-    pub fn sample_li(&self, p: Vec3, _u: Vec2) -> Option<LightSample> {
+    /// Light arriving at `p`; `u` and `strategy` choose the point on area lights.
+    pub fn sample_li(&self, p: Vec3, u: Vec2, strategy: AreaSampling) -> Option<LightSample> {
         match self {
             Light::Point(l) => l.sample_li(p),
             Light::Spot(l) => l.sample_li(p),
             Light::Directional(l) => l.sample_li(p),
+            Light::Area(l) => l.sample_li(p, u, strategy),
         }
+    }
+
+    /// Whether the light is a delta distribution (reachable only by light sampling).
+    pub fn is_delta(&self) -> bool {
+        !matches!(self, Light::Area(_))
     }
 
     /// Total emitted power (a luminance), for choosing among lights.
@@ -55,6 +67,7 @@ impl Light {
             Light::Point(l) => l.power(),
             Light::Spot(l) => l.power(),
             Light::Directional(l) => l.power(scene_radius),
+            Light::Area(l) => l.power(),
         }
     }
 }

@@ -16,7 +16,7 @@
 use crate::optics::{fresnel_dielectric, reflect, refract};
 use crate::Texture;
 use glam::{Vec2, Vec3};
-use penumbra_core::Rgb;
+use penumbra_core::{warp, Frame, Rgb};
 use std::f32::consts::PI;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -61,6 +61,49 @@ impl Phong {
         }
         let cos_alpha = reflect(wi, n).dot(wo).max(0.0);
         diffuse + self.specular * ((self.exponent + 2.0) / (2.0 * PI) * cos_alpha.powf(self.exponent))
+    }
+
+    /// Probabilities of sampling the diffuse and the glossy lobe at `uv`: in proportion to
+    /// their albedos' luminance; `None` when the material has neither (pure specular).
+    fn lobe_probabilities(&self, uv: Vec2) -> Option<(f32, f32)> {
+        let d = self.diffuse.eval(uv).luminance().max(0.0);
+        let s = self.specular.luminance().max(0.0);
+        (d + s > 0.0).then(|| (d / (d + s), s / (d + s)))
+    }
+
+    /// Whether the material has a non-specular (diffuse or glossy) part at `uv`.
+    pub fn has_lobes(&self, uv: Vec2) -> bool {
+        self.lobe_probabilities(uv).is_some()
+    }
+
+    /// A direction for the diffuse + glossy part, drawn from the mixture of a cosine-weighted
+    /// hemisphere about `n` and the Phong lobe about the mirror direction of `wo` (density
+    /// [`Phong::pdf`]); `u_lobe` picks the lobe. `None` when there is nothing to sample or
+    /// the glossy lobe points below the surface.
+    pub fn sample(&self, uv: Vec2, n: Vec3, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<Vec3> {
+        let (pd, _) = self.lobe_probabilities(uv)?;
+        let wi = if u_lobe < pd {
+            Frame::from_normal(n).to_world(warp::cosine_hemisphere(u))
+        } else {
+            Frame::from_normal(reflect(wo, n)).to_world(warp::phong_lobe(u, self.exponent))
+        };
+        (wi.dot(n) > 0.0).then_some(wi)
+    }
+
+    /// Solid-angle density of [`Phong::sample`] at `wi`.
+    pub fn pdf(&self, uv: Vec2, n: Vec3, wo: Vec3, wi: Vec3) -> f32 {
+        let Some((pd, ps)) = self.lobe_probabilities(uv) else {
+            return 0.0;
+        };
+        let cos = wi.dot(n);
+        if cos <= 0.0 {
+            return 0.0;
+        }
+        let mut pdf = pd * cos / PI;
+        if ps > 0.0 {
+            pdf += ps * warp::phong_lobe_pdf(Vec3::new(0.0, 0.0, reflect(wo, n).dot(wi)), self.exponent);
+        }
+        pdf
     }
 
     pub fn albedo(&self, uv: Vec2) -> Rgb {
@@ -133,6 +176,44 @@ mod tests {
         assert_eq!(rays.len(), 1);
         assert_eq!(rays[0].weight, Rgb::WHITE);
         assert!(rays[0].wi.z < 0.0, "reflected back inside");
+    }
+
+    /// The diffuse + glossy sampling fits its density (chi-square over the sphere), for
+    /// diffuse, glossy and mixed materials at normal and oblique views.
+    #[test]
+    fn sampling_fits_its_density() {
+        let mixed = |kd: f32, ks: f32, n: f32| Phong {
+            diffuse: Texture::Constant(Rgb::splat(kd)),
+            specular: Rgb::splat(ks),
+            exponent: n,
+            ..Phong::default()
+        };
+        let cases = [
+            (mixed(0.8, 0.0, 1.0), 0.0f32),
+            (mixed(0.0, 0.9, 20.0), 0.0),
+            (mixed(0.0, 0.9, 20.0), 1.2),
+            (mixed(0.3, 0.6, 5.0), 0.7),
+            (mixed(0.5, 0.5, 200.0), 1.0),
+        ];
+        let n = Vec3::Z;
+        for (seed, (m, theta)) in cases.iter().enumerate() {
+            let wo = Vec3::new(theta.sin(), 0.05, theta.cos()).normalize();
+            let mut lobe = penumbra_testkit::Uniforms::new(100 + seed as u64);
+            let r = penumbra_testkit::chi2_directions(
+                seed as u64,
+                300_000,
+                |u| m.sample(Vec2::ZERO, n, wo, lobe.next_f32(), u),
+                |wi| m.pdf(Vec2::ZERO, n, wo, wi),
+            );
+            r.assert_fits(
+                &format!(
+                    "Phong kd {:?} ks {:?} n {} at {theta}",
+                    m.diffuse, m.specular, m.exponent
+                ),
+                cases.len(),
+            );
+            assert!(r.integral <= 1.0 + 1e-3, "{}", r.describe());
+        }
     }
 
     #[test]

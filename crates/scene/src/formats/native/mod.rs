@@ -14,7 +14,8 @@ use glam::Vec3;
 use penumbra_core::{Rgb, SamplerKind};
 use penumbra_geometry::AccelKind;
 use penumbra_render::cameras::FovAxis;
-use penumbra_render::integrators::{IntegratorKind, MAX_DEPTH_LIMIT};
+use penumbra_render::integrators::{DirectOptions, IntegratorKind, LightSampling, MisHeuristic, MAX_DEPTH_LIMIT};
+use penumbra_render::lights::LightSelection;
 use penumbra_render::Filter;
 use std::sync::Arc;
 
@@ -102,6 +103,7 @@ fn read_render(t: &Table) -> Result<RenderDesc> {
             crate::SceneError::at(at, format!("{width}x{height} is more than {MAX_PIXELS} pixels")).label("too large"),
         );
     }
+    let direct = read_direct(t, &d.direct)?;
     Ok(RenderDesc {
         width: width as u32,
         height: height as u32,
@@ -120,7 +122,43 @@ fn read_render(t: &Table) -> Result<RenderDesc> {
             None => d.filter,
         },
         accel,
+        direct,
     })
+}
+
+/// `light_sampling`, `light_samples`, `mis_heuristic` and `light_selection`: the settings
+/// of the `direct` integrator.
+fn read_direct(t: &Table, d: &DirectOptions) -> Result<DirectOptions> {
+    let sampling = match t.get("light_sampling") {
+        Some(v) => choice(&v, "light sampling", &LightSampling::NAMES, LightSampling::from_name)?,
+        None => d.sampling,
+    };
+    let heuristic = match t.get("mis_heuristic") {
+        Some(v) => choice(&v, "MIS heuristic", &MisHeuristic::NAMES, MisHeuristic::from_name)?,
+        None => d.heuristic,
+    };
+    let selection = match t.get("light_selection") {
+        Some(v) => choice(&v, "light selection", &LightSelection::NAMES, LightSelection::from_name)?,
+        None => d.selection,
+    };
+    let light_samples = match t.get("light_samples") {
+        Some(v) => v.integer(1..=1 << 16)? as u32,
+        None => d.light_samples,
+    };
+    let direct = DirectOptions {
+        sampling,
+        light_samples,
+        heuristic,
+        selection,
+    };
+    if let Err(e) = direct.check() {
+        let at = t
+            .get("light_samples")
+            .or_else(|| t.get("light_sampling"))
+            .map_or_else(|| t.location(), |v| v.location());
+        return Err(crate::SceneError::at(at, e));
+    }
+    Ok(direct)
 }
 
 fn read_filter(t: &Table) -> Result<Filter> {

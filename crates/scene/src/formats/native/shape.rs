@@ -6,7 +6,7 @@
 //! `{ matrix = [16 numbers, row by row] }`.
 
 use super::choice;
-use crate::desc::{MaterialDesc, ShapeDesc, ShapeKind};
+use crate::desc::{Emission, MaterialDesc, ShapeDesc, ShapeKind};
 use crate::formats::{obj, ply};
 use crate::params::{Result, Table, Value};
 use crate::{SceneError, SourceFile};
@@ -121,12 +121,49 @@ pub fn read(
         Some(v) => transform(&v)?,
         None => Transform::IDENTITY,
     };
+    let emission = emission(file, t, &kind, warnings)?;
     Ok(ShapeDesc {
         kind,
         transform,
         material,
+        emission,
         location: Some(t.location()),
     })
+}
+
+/// `emission = colour` (radiance) and `two_sided = bool` (default false): an area light.
+/// Planes (infinite) and boxes cannot emit.
+fn emission(file: &SourceFile, t: &Table, kind: &ShapeKind, warnings: &mut Vec<String>) -> Result<Option<Emission>> {
+    let two_sided = t.get("two_sided");
+    let Some(v) = t.get("emission") else {
+        return match two_sided {
+            Some(v) => Err(v
+                .error("`two_sided` applies to emitting shapes only")
+                .label("no `emission` in this shape")),
+            None => Ok(None),
+        };
+    };
+    if matches!(kind, ShapeKind::Plane { .. } | ShapeKind::Box { .. }) {
+        return Err(v
+            .error("only quads, disks, spheres and meshes can emit light")
+            .label("this shape cannot be an area light")
+            .help("build the light from quads, or a mesh"));
+    }
+    let radiance = v.rgb()?;
+    if !radiance.is_finite() {
+        return Err(v.error("emitted radiance must be finite").label("not finite"));
+    }
+    if radiance.is_black() {
+        let (line, _) = file.line_col(v.location().span.start);
+        warnings.push(format!(
+            "{}:{line}: this shape's emission is zero: it gives no light",
+            file.path.display()
+        ));
+    }
+    Ok(Some(Emission {
+        radiance,
+        two_sided: two_sided.map_or(Ok(false), |v| v.bool())?,
+    }))
 }
 
 fn names<'a>(it: impl Iterator<Item = &'a String>) -> String {
