@@ -43,6 +43,8 @@ fn example_scenes_render() {
         "cornell",
         "refraction",
         "spheres",
+        "box-light",
+        "veach-mis",
         "bunny",
         "bunny-10k",
         "teapot-stadium",
@@ -211,6 +213,14 @@ fn bad_arguments_exit_2() {
         (vec!["render", "--integrator", "magic"], "unknown value `magic`"),
         (vec!["render", "does-not-exist.toml"], "cannot read does-not-exist.toml"),
         (vec!["render", "scene.obj"], "cannot read scene.obj"),
+        (vec!["render", "--light-samples", "0"], "at least one shadow ray"),
+        (
+            vec!["render", "--light-sampling", "grid", "--light-samples", "3"],
+            "square number",
+        ),
+        (vec!["render", "--light-sampling", "random"], "unknown value `random`"),
+        (vec!["render", "--mis-heuristic", "max"], "unknown value `max`"),
+        (vec!["render", "--light-selection", "some"], "unknown value `some`"),
     ] {
         let out = penumbra(dir.path(), &args);
         let stderr = text(&out.stderr);
@@ -248,6 +258,11 @@ fn help_documents_every_flag() {
         "--res",
         "--quiet",
         "--exposure",
+        "--light-sampling",
+        "--light-samples",
+        "--mis-heuristic",
+        "--light-selection",
+        "--sampler",
     ] {
         assert!(help.contains(flag), "{flag} missing from --help");
     }

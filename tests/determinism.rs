@@ -1,21 +1,29 @@
 //! The same scene, seed and sample count give the same image for any thread count and
 //! tile order.
 
+use penumbra::math::Rgb;
 use penumbra::renderer::integrators::IntegratorOptions;
-use penumbra::renderer::{render, Film, RenderOptions};
-use penumbra::scene::build_scene;
+use penumbra::renderer::{render, Film, Integrator, RayCounts, RenderOptions, Scene};
+use penumbra::scene::{build_scene, SceneDesc, SourceFile};
 
 fn render_with(threads: usize, tile_size: u32, seed: u64) -> Film {
     let mut desc = penumbra::default_scene();
     desc.render.width = 96;
     desc.render.height = 64;
-    let scene = build_scene(&desc).unwrap();
-    let integrator = desc.render.integrator.create(IntegratorOptions::default());
+    render_desc(&desc, threads, tile_size, seed)
+}
+
+fn render_desc(desc: &SceneDesc, threads: usize, tile_size: u32, seed: u64) -> Film {
+    let scene = build_scene(desc).unwrap();
+    let integrator = desc.render.integrator.create(IntegratorOptions {
+        direct: desc.render.direct,
+        ..IntegratorOptions::default()
+    });
     let options = RenderOptions {
         spp: 4,
         seed,
         tile_size,
-        ..RenderOptions::default()
+        sampler: desc.render.sampler,
     };
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     let cancel = std::sync::atomic::AtomicBool::new(false);
@@ -33,4 +41,57 @@ fn identical_for_any_thread_count_and_tiling() {
         render_with(2, 16, 4),
         "a different seed gives a different image"
     );
+}
+
+#[test]
+fn direct_lighting_is_identical_for_any_thread_count_and_tiling() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/box-light.toml");
+    let file = SourceFile::new(path, std::fs::read_to_string(path).unwrap());
+    let mut desc = penumbra::scene::formats::native::read(&file).unwrap();
+    desc.render.width = 80;
+    desc.render.height = 60;
+    for sampler in penumbra::math::SamplerKind::ALL {
+        desc.render.sampler = sampler;
+        let reference = render_desc(&desc, 1, 16, 5);
+        assert_eq!(
+            reference,
+            render_desc(&desc, 2, 5, 5),
+            "{sampler:?}: 1 vs 2 threads, 16 vs 5 pixel tiles"
+        );
+    }
+}
+
+/// Returns NaN for some samples and infinity for others, 1 for the rest.
+struct Broken;
+
+impl Integrator for Broken {
+    fn li(&self, _: &Scene, _: &penumbra::math::Ray, s: &mut penumbra::math::PixelSampler, _: &mut RayCounts) -> Rgb {
+        match s.next_1d() {
+            u if u < 0.1 => Rgb::splat(f32::NAN),
+            u if u < 0.2 => Rgb::new(1.0, f32::INFINITY, 0.0),
+            _ => Rgb::WHITE,
+        }
+    }
+}
+
+#[test]
+fn the_film_refuses_nan_and_infinite_samples_and_counts_them() {
+    let mut desc = penumbra::default_scene();
+    desc.render.width = 32;
+    desc.render.height = 32;
+    let scene = build_scene(&desc).unwrap();
+    let options = RenderOptions {
+        spp: 8,
+        ..RenderOptions::default()
+    };
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let film = render(&scene, &Broken, &options, &(), &cancel).film;
+    let total = 32 * 32 * 8;
+    // About 20% of the samples are broken (binomial: 1638 +- 36).
+    assert!((1400..1900).contains(&film.rejected), "{} rejected", film.rejected);
+    assert_eq!(film.samples() + film.rejected, total);
+    for p in film.image() {
+        let white = (p.r - 1.0).abs() < 1e-6 && p.r == p.g && p.g == p.b;
+        assert!(white || p == Rgb::BLACK, "{p:?}: a broken sample leaked into the image");
+    }
 }

@@ -215,3 +215,93 @@ fn mis_has_lower_variance_than_the_worse_of_light_and_bsdf_sampling() {
         );
     }
 }
+
+/// Irradiance at `p` (normal `n`) from a polygon of unit radiance facing it: Lambert's
+/// formula E = 1/2 Σ θ_i n · (v_i x v_i+1) / |v_i x v_i+1|, v_i the unit directions to the
+/// vertices and θ_i the angle between neighbours (e.g. Arvo 1995, "Applications of
+/// Irradiance Tensors", eq. 1).
+fn polygon_irradiance(p: Vec3, n: Vec3, vertices: &[Vec3]) -> f64 {
+    let v: Vec<Vec3> = vertices.iter().map(|q| (*q - p).normalize()).collect();
+    let sum: f64 = (0..v.len())
+        .map(|i| {
+            let (a, b) = (v[i], v[(i + 1) % v.len()]);
+            let theta = (a.dot(b) as f64).clamp(-1.0, 1.0).acos();
+            theta * n.dot(a.cross(b).normalize()) as f64
+        })
+        .sum();
+    0.5 * sum.abs()
+}
+
+#[test]
+fn quad_and_mesh_lights_match_lamberts_polygon_formula() {
+    // A tilted rectangle above the origin, facing down; as a quad, as a two-triangle mesh,
+    // as a mesh wound the other way whose vertex normals still face down, and as a
+    // two-sided quad turned to face up.
+    let (c, e1, e2) = (
+        Vec3::new(-0.2, 1.0, -0.5),
+        Vec3::new(1.0, 0.2, 0.0),
+        Vec3::new(0.0, 0.0, 0.8),
+    );
+    let corners = [c, c + e1, c + e1 + e2, c + e2];
+    let expected =
+        ALBEDO as f64 / std::f64::consts::PI * RADIANCE as f64 * polygon_irradiance(Vec3::ZERO, Vec3::Y, &corners);
+    let v = |p: Vec3| format!("[{}, {}, {}]", p.x, p.y, p.z);
+    let positions = corners.iter().map(|&p| v(p)).collect::<Vec<_>>().join(", ");
+    let down = v(e1.cross(e2).normalize());
+    let lights = [
+        ("quad", format!("type = \"quad\"\ncorner = {}\nedge1 = {}\nedge2 = {}", v(c), v(e1), v(e2))),
+        ("mesh", format!("type = \"mesh\"\npositions = [{positions}]\nindices = [[0, 1, 2], [0, 2, 3]]")),
+        (
+            "mesh wound the other way, normals down",
+            format!(
+                "type = \"mesh\"\npositions = [{positions}]\nindices = [[0, 2, 1], [0, 3, 2]]\nnormals = [{down}, {down}, {down}, {down}]"
+            ),
+        ),
+        (
+            "two-sided quad facing up",
+            format!(
+                "type = \"quad\"\ncorner = {}\nedge1 = {}\nedge2 = {}\ntwo_sided = true",
+                v(c),
+                v(e2),
+                v(e1)
+            ),
+        ),
+    ];
+    for (what, light) in &lights {
+        let scene = scene(light, &lambertian_floor());
+        for (name, o) in strategies() {
+            let (mean, se) = estimate(&scene, o, 20_000);
+            assert!(
+                (mean - expected).abs() <= 3.0 * se + 1e-5 * expected,
+                "{what}, {name}: {mean} +- {se}, expected {expected}"
+            );
+        }
+    }
+    // One-sided and facing away: no light at all.
+    let away = format!(
+        "type = \"quad\"\ncorner = {}\nedge1 = {}\nedge2 = {}",
+        v(c),
+        v(e2),
+        v(e1)
+    );
+    let (mean, _) = estimate(&scene(&away, &lambertian_floor()), options(LightSampling::Mis, 1), 1000);
+    assert_eq!(mean, 0.0);
+}
+
+#[test]
+fn the_camera_sees_an_emitter_s_radiance_from_its_front_only() {
+    let light = "type = \"quad\"\ncorner = [-1, 1, -1]\nedge1 = [2, 0, 0]\nedge2 = [0, 0, 2]";
+    let scene = scene(light, &lambertian_floor());
+    let up = Ray::new(Vec3::new(0.1, 0.5, 0.2), Vec3::Y);
+    let down = Ray::new(Vec3::new(0.1, 3.0, 0.2), Vec3::NEG_Y);
+    for kind in [IntegratorKind::Whitted, IntegratorKind::Direct] {
+        let integrator = kind.create(IntegratorOptions::default());
+        let mut sampler = PixelSampler::new(SamplerKind::Independent, 1, 1);
+        let mut counts = RayCounts::default();
+        let front = integrator.li(&scene, &up, &mut sampler, &mut counts);
+        assert_eq!(front, penumbra::math::Rgb::splat(RADIANCE), "{kind:?} from below");
+        // From above, the back of the (black) light: no emission, no reflection.
+        let back = integrator.li(&scene, &down, &mut sampler, &mut counts);
+        assert_eq!(back, penumbra::math::Rgb::BLACK, "{kind:?} from above");
+    }
+}

@@ -199,3 +199,99 @@ fn huge_coordinates_are_an_error_naming_the_vertex() {
     assert!(text.contains("vertex 2") && text.contains("1e35"), "{text}");
     assert_eq!(e.location().map(|l| l.file.line_col(l.span.start).0), Some(4));
 }
+
+/// The message and line of the error reading `text` gives, or of building the scene.
+fn error_of(text: &str) -> (String, Option<usize>) {
+    let file = SourceFile::new("test.toml", text.to_string());
+    let e = match read(&file) {
+        Err(e) => e,
+        Ok(d) => match crate::build_scene(&d) {
+            Err(e) => e,
+            Ok(_) => panic!("no error for:\n{text}"),
+        },
+    };
+    (format!("{e}"), e.location().map(|l| l.file.line_col(l.span.start).0))
+}
+
+#[test]
+fn emitters_and_direct_settings_are_read() {
+    let d = parse(
+        r#"
+        [render]
+        integrator = "direct"
+        light_sampling = "grid"
+        light_samples = 9
+        mis_heuristic = "balance"
+        light_selection = "all"
+
+        [[shape]]
+        type = "quad"
+        emission = [1, 2, 3]
+        two_sided = true
+
+        [[shape]]
+        type = "sphere"
+        emission = 4
+        "#,
+    );
+    use penumbra_render::integrators::{DirectOptions, LightSampling, MisHeuristic};
+    assert_eq!(
+        d.render.direct,
+        DirectOptions {
+            sampling: LightSampling::Grid,
+            light_samples: 9,
+            heuristic: MisHeuristic::Balance,
+            selection: penumbra_render::lights::LightSelection::All,
+        }
+    );
+    let e: Vec<_> = d.shapes.iter().map(|s| s.emission.unwrap()).collect();
+    assert_eq!((e[0].radiance, e[0].two_sided), (Rgb::new(1.0, 2.0, 3.0), true));
+    assert_eq!((e[1].radiance, e[1].two_sided), (Rgb::splat(4.0), false));
+    let scene = crate::build_scene(&d).unwrap();
+    assert_eq!(scene.lights.len(), 2);
+}
+
+#[test]
+fn bad_emitters_and_light_settings_are_errors_naming_the_line() {
+    let cases: &[(&str, &str, usize)] = &[
+        ("[[shape]]\ntype = \"quad\"\nemission = [1, -1, 1]\n", "must not be negative", 3),
+        ("[[shape]]\ntype = \"plane\"\nemission = 1\n", "only quads, disks, spheres and meshes", 3),
+        ("[[shape]]\ntype = \"box\"\nemission = 1\n", "only quads, disks, spheres and meshes", 3),
+        ("[[shape]]\ntype = \"quad\"\ntwo_sided = true\n", "emitting shapes only", 3),
+        (
+            "[[shape]]\ntype = \"sphere\"\nemission = 1\ntransform = { scale = [1, 2, 1] }\n",
+            "must stay a sphere",
+            1,
+        ),
+        (
+            "[[shape]]\ntype = \"quad\"\nemission = 1\ntransform = { scale = [1e-30, 1e-30, 1] }\n",
+            "degenerate",
+            1,
+        ),
+        (
+            "[[shape]]\ntype = \"mesh\"\npositions = [[0, 0, 0], [1, 0, 0], [2, 0, 0]]\nindices = [[0, 1, 2]]\nemission = 1\n",
+            "no triangles with area",
+            1,
+        ),
+        ("[[shape]]\ntype = \"quad\"\nemission = [1, inf, 1]\n", "finite", 3),
+        ("[render]\nlight_samples = 0\n", "from 1 to 65536", 2),
+        ("[render]\nlight_sampling = \"grid\"\nlight_samples = 8\n", "square number", 3),
+        ("[render]\nlight_sampling = \"random\"\n", "unknown light sampling", 2),
+        ("[render]\nmis_heuristic = \"max\"\n", "unknown MIS heuristic", 2),
+        ("[render]\nlight_selection = \"some\"\n", "unknown light selection", 2),
+    ];
+    for (text, message, line) in cases {
+        let (e, at) = error_of(text);
+        assert!(e.contains(message), "{text}: `{e}` does not say `{message}`");
+        assert_eq!(at, Some(*line), "{text}: {e}");
+    }
+}
+
+#[test]
+fn zero_emission_is_a_warning() {
+    let d = parse("[[shape]]\ntype = \"disk\"\nemission = 0\n");
+    assert_eq!(
+        d.warnings,
+        vec!["test.toml:3: this shape's emission is zero: it gives no light"]
+    );
+}
