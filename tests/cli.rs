@@ -272,7 +272,7 @@ fn help_documents_every_flag() {
 fn every_accelerator_renders_the_same_image() {
     let dir = tempfile::tempdir().unwrap();
     // (The bunny scenes would take minutes with `list`; the agreement tests cover meshes.)
-    for scene in ["whitted", "cornell", "refraction", "spheres"] {
+    for scene in ["whitted", "cornell", "refraction", "spheres", "box-light", "veach-mis"] {
         let path = repo().join("scenes").join(format!("{scene}.toml"));
         let images: Vec<Vec<u8>> = ["list", "bvh", "grid", "nested-grid", "octree", "octree-keep", "kdtree"]
             .iter()

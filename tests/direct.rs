@@ -19,6 +19,14 @@ const RADIANCE: f32 = 2.0;
 
 /// A floor of albedo 0.5 through the origin and `light` (a TOML shape table body).
 fn scene(light: &str, floor_material: &str) -> Scene {
+    scene_with(
+        &format!("[[shape]]\nmaterial = \"black\"\nemission = {RADIANCE}\n{light}"),
+        floor_material,
+    )
+}
+
+/// A floor of albedo 0.5 through the origin and the TOML tables `lights`.
+fn scene_with(lights: &str, floor_material: &str) -> Scene {
     let text = format!(
         r#"
 [[material]]
@@ -36,10 +44,7 @@ edge1 = [40, 0, 0]
 edge2 = [0, 0, -40]
 material = "floor"
 
-[[shape]]
-material = "black"
-emission = {RADIANCE}
-{light}
+{lights}
 "#
     );
     let desc = penumbra::scene::formats::native::read(&SourceFile::new("test.toml", text)).unwrap();
@@ -303,5 +308,74 @@ fn the_camera_sees_an_emitter_s_radiance_from_its_front_only() {
         // From above, the back of the (black) light: no emission, no reflection.
         let back = integrator.li(&scene, &down, &mut sampler, &mut counts);
         assert_eq!(back, penumbra::math::Rgb::BLACK, "{kind:?} from above");
+    }
+}
+
+#[test]
+fn many_lights_sum_up_for_every_light_selection() {
+    // Two quads, a two-triangle mesh, a sphere and a point light of very different powers,
+    // each in its own direction from the origin (none shadows another).
+    let quad = |c: Vec3, e1: Vec3, e2: Vec3, radiance: f32| {
+        let v = |p: Vec3| format!("[{}, {}, {}]", p.x, p.y, p.z);
+        let toml = format!(
+            "[[shape]]\ntype = \"quad\"\nmaterial = \"black\"\nemission = {radiance}\ncorner = {}\nedge1 = {}\nedge2 = {}\n",
+            v(c),
+            v(e1),
+            v(e2)
+        );
+        (
+            toml,
+            radiance as f64 * polygon_irradiance(Vec3::ZERO, Vec3::Y, &[c, c + e1, c + e1 + e2, c + e2]),
+        )
+    };
+    let (a, e_a) = quad(
+        Vec3::new(-1.5, 1.0, -0.5),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, 1.0),
+        2.0,
+    );
+    let (b, e_b) = quad(
+        Vec3::new(0.6, 1.2, 0.6),
+        Vec3::new(0.2, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, 0.2),
+        50.0,
+    );
+    let mesh = "[[shape]]\ntype = \"mesh\"\nmaterial = \"black\"\nemission = 3\n\
+                positions = [[-0.3, 1, -1.5], [0.3, 1, -1.5], [0.3, 1, -0.8], [-0.3, 1, -0.8]]\n\
+                indices = [[0, 1, 2], [0, 2, 3]]\n";
+    let mesh_corners = [
+        Vec3::new(-0.3, 1.0, -1.5),
+        Vec3::new(0.3, 1.0, -1.5),
+        Vec3::new(0.3, 1.0, -0.8),
+        Vec3::new(-0.3, 1.0, -0.8),
+    ];
+    let e_mesh = 3.0 * polygon_irradiance(Vec3::ZERO, Vec3::Y, &mesh_corners);
+    let sphere = "[[shape]]\ntype = \"sphere\"\nmaterial = \"black\"\nemission = 5\ncenter = [0, 2, 0]\nradius = 0.2\n";
+    let e_sphere = std::f64::consts::PI * 5.0 * 0.01;
+    let point = "[[light]]\ntype = \"point\"\nposition = [0.5, 1.5, -0.3]\nintensity = 0.8\n";
+    let d2 = 0.25 + 2.25 + 0.09;
+    let e_point = 0.8 * (1.5 / f64::sqrt(d2)) / d2;
+    let scene = scene_with(&format!("{a}{b}{mesh}{sphere}{point}"), &lambertian_floor());
+    assert_eq!((scene.lights.len(), scene.lights.groups()), (6, 5));
+    let expected = ALBEDO as f64 / std::f64::consts::PI * (e_a + e_b + e_mesh + e_sphere + e_point);
+    for selection in [LightSelection::Power, LightSelection::Uniform, LightSelection::All] {
+        for sampling in [
+            LightSampling::Uniform,
+            LightSampling::SolidAngle,
+            LightSampling::Bsdf,
+            LightSampling::Mis,
+        ] {
+            let o = DirectOptions {
+                selection,
+                ..options(sampling, 2)
+            };
+            let (mean, se) = estimate(&scene, o, 40_000);
+            println!("{selection:?} {sampling:?}: {mean:.5} +- {se:.5} (expected {expected:.5})");
+            assert!(
+                (mean - expected).abs() <= 3.0 * se + 1e-5 * expected,
+                "{selection:?}, {sampling:?}: {mean} is {:.1} standard errors from {expected}",
+                (mean - expected).abs() / se
+            );
+        }
     }
 }

@@ -64,6 +64,18 @@ pub(crate) fn choice<T>(v: &Value, what: &str, names: &[&str], parse: impl Fn(&s
     })
 }
 
+/// The value of `key`, one of `names`, or `default` when the key is absent.
+fn choice_or<T>(
+    t: &Table,
+    key: &str,
+    what: &str,
+    names: &[&str],
+    parse: impl Fn(&str) -> Option<T>,
+    default: T,
+) -> Result<T> {
+    t.get(key).map_or(Ok(default), |v| choice(&v, what, names, parse))
+}
+
 /// The largest image side, here and on the command line.
 pub const MAX_RESOLUTION: i64 = 65536;
 /// The largest number of pixels, here and on the command line (2^28, about 16k x 16k).
@@ -74,18 +86,30 @@ fn read_render(t: &Table) -> Result<RenderDesc> {
     let int = |key: &str, range: std::ops::RangeInclusive<i64>, default: u64| -> Result<u64> {
         t.get(key).map_or(Ok(default), |v| v.integer(range).map(|n| n as u64))
     };
-    let integrator = match t.get("integrator") {
-        Some(v) => choice(&v, "integrator", &IntegratorKind::NAMES, IntegratorKind::from_name)?,
-        None => d.integrator,
-    };
-    let sampler = match t.get("sampler") {
-        Some(v) => choice(&v, "sampler", &SamplerKind::NAMES, SamplerKind::from_name)?,
-        None => d.sampler,
-    };
-    let accel = match t.get("accel") {
-        Some(v) => choice(&v, "accelerator", &AccelKind::NAMES, AccelKind::from_name)?,
-        None => d.accel,
-    };
+    let integrator = choice_or(
+        t,
+        "integrator",
+        "integrator",
+        &IntegratorKind::NAMES,
+        IntegratorKind::from_name,
+        d.integrator,
+    )?;
+    let sampler = choice_or(
+        t,
+        "sampler",
+        "sampler",
+        &SamplerKind::NAMES,
+        SamplerKind::from_name,
+        d.sampler,
+    )?;
+    let accel = choice_or(
+        t,
+        "accel",
+        "accelerator",
+        &AccelKind::NAMES,
+        AccelKind::from_name,
+        d.accel,
+    )?;
     let min_weight = t.f32_or("min_weight", d.min_weight)?;
     if min_weight < 0.0 {
         return Err(t.require("min_weight")?.error("`min_weight` must not be negative"));
@@ -129,18 +153,30 @@ fn read_render(t: &Table) -> Result<RenderDesc> {
 /// `light_sampling`, `light_samples`, `mis_heuristic` and `light_selection`: the settings
 /// of the `direct` integrator.
 fn read_direct(t: &Table, d: &DirectOptions) -> Result<DirectOptions> {
-    let sampling = match t.get("light_sampling") {
-        Some(v) => choice(&v, "light sampling", &LightSampling::NAMES, LightSampling::from_name)?,
-        None => d.sampling,
-    };
-    let heuristic = match t.get("mis_heuristic") {
-        Some(v) => choice(&v, "MIS heuristic", &MisHeuristic::NAMES, MisHeuristic::from_name)?,
-        None => d.heuristic,
-    };
-    let selection = match t.get("light_selection") {
-        Some(v) => choice(&v, "light selection", &LightSelection::NAMES, LightSelection::from_name)?,
-        None => d.selection,
-    };
+    let sampling = choice_or(
+        t,
+        "light_sampling",
+        "light sampling",
+        &LightSampling::NAMES,
+        LightSampling::from_name,
+        d.sampling,
+    )?;
+    let heuristic = choice_or(
+        t,
+        "mis_heuristic",
+        "MIS heuristic",
+        &MisHeuristic::NAMES,
+        MisHeuristic::from_name,
+        d.heuristic,
+    )?;
+    let selection = choice_or(
+        t,
+        "light_selection",
+        "light selection",
+        &LightSelection::NAMES,
+        LightSelection::from_name,
+        d.selection,
+    )?;
     let light_samples = match t.get("light_samples") {
         Some(v) => v.integer(1..=1 << 16)? as u32,
         None => d.light_samples,
