@@ -207,6 +207,12 @@ fn mis_has_lower_variance_than_the_worse_of_light_and_bsdf_sampling() {
         let (b_mean, se_bsdf) = estimate_from(eye, &scene, options(LightSampling::Bsdf, 1), n);
         let (m_mean, se_mis) = estimate_from(eye, &scene, options(LightSampling::Mis, 1), n);
         println!("light {l_mean:.4}+-{se_light:.4}, bsdf {b_mean:.4}+-{se_bsdf:.4}, mis {m_mean:.4}+-{se_mis:.4}");
+        // The three estimate the same integral.
+        let agree = |a: (f64, f64), b: (f64, f64)| (a.0 - b.0).abs() <= 4.0 * (a.1 * a.1 + b.1 * b.1).sqrt();
+        assert!(
+            agree((m_mean, se_mis), (l_mean, se_light)) && agree((m_mean, se_mis), (b_mean, se_bsdf)),
+            "{light}: the means differ"
+        );
         // MIS spends two rays per sample; compare per ray: its variance times two.
         let worse = se_light.max(se_bsdf);
         assert!(
@@ -272,10 +278,20 @@ fn quad_and_mesh_lights_match_lamberts_polygon_formula() {
             ),
         ),
     ];
-    for (what, light) in &lights {
+    let mut cases: Vec<(&str, String, f64)> = lights.iter().map(|(w, l)| (*w, l.clone(), expected)).collect();
+    // Mirrored in x by its transform: the rectangle is mirrored and still faces down.
+    let mirrored: Vec<Vec3> = corners.iter().map(|p| Vec3::new(-p.x, p.y, p.z)).collect();
+    cases.push((
+        "quad mirrored by its transform",
+        format!("{}\ntransform = {{ scale = [-1, 1, 1] }}", lights[0].1),
+        ALBEDO as f64 / std::f64::consts::PI * RADIANCE as f64 * polygon_irradiance(Vec3::ZERO, Vec3::Y, &mirrored),
+    ));
+    for (what, light, expected) in &cases {
+        let (what, expected) = (*what, *expected);
         let scene = scene(light, &lambertian_floor());
         for (name, o) in strategies() {
             let (mean, se) = estimate(&scene, o, 20_000);
+            assert!(se > 0.0 && se < 0.05 * expected, "{what}, {name}: standard error {se}");
             assert!(
                 (mean - expected).abs() <= 3.0 * se + 1e-5 * expected,
                 "{what}, {name}: {mean} +- {se}, expected {expected}"
@@ -358,19 +374,27 @@ fn many_lights_sum_up_for_every_light_selection() {
     let scene = scene_with(&format!("{a}{b}{mesh}{sphere}{point}"), &lambertian_floor());
     assert_eq!((scene.lights.len(), scene.lights.groups()), (6, 5));
     let expected = ALBEDO as f64 / std::f64::consts::PI * (e_a + e_b + e_mesh + e_sphere + e_point);
+    let samplings = [
+        (LightSampling::Uniform, MisHeuristic::Power),
+        (LightSampling::Stratified, MisHeuristic::Power),
+        (LightSampling::SolidAngle, MisHeuristic::Power),
+        (LightSampling::Bsdf, MisHeuristic::Power),
+        (LightSampling::Mis, MisHeuristic::Power),
+        (LightSampling::Mis, MisHeuristic::Balance),
+    ];
     for selection in [LightSelection::Power, LightSelection::Uniform, LightSelection::All] {
-        for sampling in [
-            LightSampling::Uniform,
-            LightSampling::SolidAngle,
-            LightSampling::Bsdf,
-            LightSampling::Mis,
-        ] {
+        for (sampling, heuristic) in samplings {
             let o = DirectOptions {
                 selection,
+                heuristic,
                 ..options(sampling, 2)
             };
             let (mean, se) = estimate(&scene, o, 40_000);
-            println!("{selection:?} {sampling:?}: {mean:.5} +- {se:.5} (expected {expected:.5})");
+            println!("{selection:?} {sampling:?} {heuristic:?}: {mean:.5} +- {se:.5} (expected {expected:.5})");
+            assert!(
+                se > 0.0 && se < 0.05 * expected,
+                "{selection:?}, {sampling:?}: standard error {se}"
+            );
             assert!(
                 (mean - expected).abs() <= 3.0 * se + 1e-5 * expected,
                 "{selection:?}, {sampling:?}: {mean} is {:.1} standard errors from {expected}",

@@ -196,29 +196,30 @@ impl Direct {
     /// The estimate of reflected direct light at `sh`.
     fn direct(&self, scene: &Scene, sh: &Shading, sampler: &mut PixelSampler, counts: &mut RayCounts) -> Rgb {
         let o = &self.options.direct;
-        let n = o.light_samples;
+        // (Settings from the library API skip `DirectOptions::check`: stay safe anyway.)
+        let n = o.light_samples.max(1);
         let lights = &scene.lights;
         let mut sum = Rgb::BLACK;
-        match (o.sampling.area_sampling(), o.selection) {
-            _ if o.sampling == LightSampling::Grid => {
+        match (o.sampling, o.selection) {
+            (LightSampling::Grid, _) => {
                 // Every light (every triangle of a mesh light) with the same k x k points.
                 let k = n.isqrt();
                 for (index, light) in lights.lights().iter().enumerate() {
-                    let points = if light.is_delta() { 1 } else { n };
+                    let points = if light.is_delta() { 1 } else { k * k };
                     for j in 0..points {
                         let u = Vec2::new((j % k) as f32 + 0.5, (j / k) as f32 + 0.5) / k as f32;
                         sum += self.light_sample(scene, sh, index as u32, 1.0, u, points, counts);
                     }
                 }
             }
-            (None, _) => {
+            (LightSampling::Bsdf, _) => {
                 for (index, light) in lights.lights().iter().enumerate() {
                     if light.is_delta() {
                         sum += self.light_sample(scene, sh, index as u32, 1.0, Vec2::ZERO, 1, counts);
                     }
                 }
             }
-            (Some(_), LightSelection::All) => {
+            (_, LightSelection::All) => {
                 for group in 0..lights.groups() {
                     let first = lights.group_lights(group).start as usize;
                     let batch = if lights.lights()[first].is_delta() { 1 } else { n };
@@ -231,7 +232,7 @@ impl Direct {
                     }
                 }
             }
-            (Some(_), selection) => {
+            (_, selection) => {
                 for j in 0..n {
                     let u_pick = sampler.next_1d();
                     let u = self.point_sample(j, sampler);
@@ -243,7 +244,7 @@ impl Direct {
         }
         if matches!(o.sampling, LightSampling::Bsdf | LightSampling::Mis) {
             for _ in 0..n {
-                sum += self.bsdf_sample(scene, sh, sampler, counts);
+                sum += self.bsdf_sample(scene, sh, n, sampler, counts);
             }
         }
         sum
@@ -257,7 +258,7 @@ impl Direct {
             return u;
         }
         // nx x ny strata, nx the largest divisor of n not above its square root.
-        let n = o.light_samples;
+        let n = o.light_samples.max(1);
         let nx = (1..=n.isqrt()).rev().find(|d| n.is_multiple_of(*d)).unwrap_or(1);
         let ny = n / nx;
         Vec2::new(((j % nx) as f32 + u.x) / nx as f32, ((j / nx) as f32 + u.y) / ny as f32)
@@ -285,7 +286,8 @@ impl Direct {
             return Rgb::BLACK;
         };
         let cos = sh.n.dot(ls.wi);
-        if cos <= 0.0 || sh.ng.dot(ls.wi) <= 0.0 || ls.li.is_black() {
+        // (Written to reject NaN directions too.)
+        if !(cos > 0.0 && sh.ng.dot(ls.wi) > 0.0) || ls.li.is_black() {
             return Rgb::BLACK;
         }
         let f = sh.m.eval(s.uv, sh.n, sh.it.wo, ls.wi);
@@ -300,7 +302,7 @@ impl Direct {
         let weight = if o.sampling == LightSampling::Mis && !ls.delta {
             let p_bsdf = sh.m.pdf(s.uv, sh.n, sh.it.wo, ls.wi);
             o.heuristic
-                .weight(batch as f32 * p_pick * ls.pdf, o.light_samples as f32 * p_bsdf)
+                .weight(batch as f32 * p_pick * ls.pdf, o.light_samples.max(1) as f32 * p_bsdf)
         } else {
             1.0
         };
@@ -309,7 +311,14 @@ impl Direct {
 
     /// One BSDF-sampling estimate: a direction from the BSDF and the area light its ray
     /// reaches, if any, MIS-weighted against light sampling in `mis` mode.
-    fn bsdf_sample(&self, scene: &Scene, sh: &Shading, sampler: &mut PixelSampler, counts: &mut RayCounts) -> Rgb {
+    fn bsdf_sample(
+        &self,
+        scene: &Scene,
+        sh: &Shading,
+        n: u32,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+    ) -> Rgb {
         let o = &self.options.direct;
         let s = &sh.it.surface;
         let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
@@ -332,7 +341,7 @@ impl Direct {
         if le.is_black() {
             return Rgb::BLACK;
         }
-        let n = o.light_samples as f32;
+        let n = n as f32;
         let weight = if o.sampling == LightSampling::Mis {
             // The light strategy's density for this direction: the chance of picking the
             // light times the solid-angle density of the point, with its sample count.

@@ -49,7 +49,7 @@ impl AreaLight {
     fn to_light_sample(&self, p: Vec3, s: &EmitterSample) -> Option<LightSample> {
         let d = s.point - p;
         let dist = d.length();
-        if !(dist > 0.0 && s.pdf.is_finite() && s.pdf > 0.0) {
+        if !(dist > 0.0 && dist.is_finite() && s.pdf.is_finite() && s.pdf > 0.0) {
             return None;
         }
         let wi = d / dist;

@@ -184,7 +184,12 @@ impl Emitter {
                 }),
             (EmitterShape::Disk { .. }, Some(_)) => None,
         };
-        sample.or_else(|| self.sample_uniform(p, u))
+        // Fall back to area sampling only where the density says so: a failed spherical
+        // sample is a lost sample, so that `solid_angle_pdf` stays the density of this routine.
+        match self.solid_angle_density(p) {
+            Some(_) => sample,
+            None => self.sample_uniform(p, u),
+        }
     }
 
     /// The density [`Emitter::sample_solid_angle`] gives the direction from `p` to `point`

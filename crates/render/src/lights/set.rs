@@ -133,6 +133,10 @@ impl LightSet {
     pub fn emitter_of(&self, object: u32, triangle: u32) -> Option<(u32, &AreaLight)> {
         let first = (*self.object_lights.get(object as usize)?)?;
         let index = first + triangle;
+        debug_assert!(
+            self.group_of.get(index as usize) == self.group_of.get(first as usize),
+            "triangle {triangle} of object {object} has no light of its own"
+        );
         match self.lights.get(index as usize) {
             Some(Light::Area(a)) => Some((index, a)),
             _ => None,
@@ -146,8 +150,8 @@ impl LightSet {
         Some((g.lights.start + i as u32, pmf, rest))
     }
 
-    /// A light chosen by `selection` (not [`LightSelection::All`], which picks within each
-    /// object with [`LightSet::pick_in_group`]), its probability, and `u` rescaled.
+    /// A light chosen by `selection`, its probability, and `u` rescaled. [`LightSelection::All`]
+    /// is meant for [`LightSet::pick_in_group`], object by object; here it picks by power.
     pub fn pick(&self, selection: LightSelection, u: f32) -> Option<(u32, f32, f32)> {
         match selection {
             LightSelection::Power | LightSelection::All => {

@@ -59,7 +59,11 @@ impl Phong {
         if self.specular.is_black() {
             return diffuse;
         }
-        let cos_alpha = reflect(wi, n).dot(wo).max(0.0);
+        // Zero outside the lobe's hemisphere (also for exponent 0, where 0^0 would be 1).
+        let cos_alpha = reflect(wi, n).dot(wo);
+        if cos_alpha <= 0.0 {
+            return diffuse;
+        }
         diffuse + self.specular * ((self.exponent + 2.0) / (2.0 * PI) * cos_alpha.powf(self.exponent))
     }
 
@@ -194,6 +198,7 @@ mod tests {
             (mixed(0.0, 0.9, 20.0), 1.2),
             (mixed(0.3, 0.6, 5.0), 0.7),
             (mixed(0.5, 0.5, 200.0), 1.0),
+            (mixed(0.0, 0.7, 0.0), 0.4),
         ];
         let n = Vec3::Z;
         for (seed, (m, theta)) in cases.iter().enumerate() {
