@@ -17,6 +17,7 @@
 //! ```
 
 pub mod bench;
+pub mod metrics;
 
 pub use penumbra_core as math;
 pub use penumbra_geometry as geometry;

@@ -1,6 +1,7 @@
 //! Command-line arguments and dispatch.
 
 mod bench;
+mod diff;
 mod progress;
 mod render;
 
@@ -34,6 +35,9 @@ enum Command {
     /// Measure: `penumbra bench accel MESH_OR_SCENE` races the acceleration structures.
     #[command(subcommand)]
     Bench(bench::BenchCommand),
+    /// Compare images: `penumbra diff A B [--ref R]` prints RMSE, relative MSE and mean
+    /// absolute relative error, and can draw the error.
+    Diff(diff::DiffArgs),
 }
 
 /// Options of `penumbra render`; each overrides what the scene file says.
@@ -150,6 +154,7 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Some(Command::Render(args)) => render::run(args),
         Some(Command::Bench(command)) => bench::run(command),
+        Some(Command::Diff(args)) => diff::run(args),
         None => render::run(cli.render),
     }
 }

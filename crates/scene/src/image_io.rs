@@ -1,6 +1,7 @@
 //! Image output: PNG (8-bit sRGB, with exposure), OpenEXR (linear 32-bit float) and PFM
 //! (linear 32-bit float), chosen by extension. Every file is written to a temporary name
 //! in the target directory and renamed into place, so a reader never sees a partial image.
+//! Linear images (EXR, PFM) can be read back, for comparisons.
 
 use penumbra_core::Rgb;
 use std::io::{self, Write};
@@ -74,6 +75,89 @@ pub fn write_image(path: &Path, image: &Image, exposure: f32) -> io::Result<()> 
     Ok(())
 }
 
+/// A linear RGB image that owns its pixels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OwnedImage {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Rgb>,
+}
+
+/// Reads a linear image: OpenEXR (its first RGB(A) layer) or PFM. The error says what is
+/// wrong; the caller names the file.
+pub fn read_image(path: &Path) -> io::Result<OwnedImage> {
+    let bad = |m: String| io::Error::new(io::ErrorKind::InvalidData, m);
+    match ImageFormat::from_path(path) {
+        Some(ImageFormat::Exr) => {
+            let image = exr::prelude::read_first_rgba_layer_from_file(
+                path,
+                |size, _| (size.width(), vec![Rgb::BLACK; size.width() * size.height()]),
+                |(w, px): &mut (usize, Vec<Rgb>), p, (r, g, b, _a): (f32, f32, f32, f32)| {
+                    px[p.y() * *w + p.x()] = Rgb::new(r, g, b)
+                },
+            )
+            .map_err(|e| bad(format!("not a readable OpenEXR image: {e}")))?;
+            let size = image.layer_data.size;
+            Ok(OwnedImage {
+                width: size.width() as u32,
+                height: size.height() as u32,
+                pixels: image.layer_data.channel_data.pixels.1,
+            })
+        }
+        Some(ImageFormat::Pfm) => read_pfm(&std::fs::read(path)?).map_err(bad),
+        _ => Err(bad("only linear images can be compared: .exr or .pfm".into())),
+    }
+}
+
+/// Parses a colour PFM ("PF", width, height, scale whose sign gives the byte order, then
+/// rows from the bottom).
+fn read_pfm(bytes: &[u8]) -> Result<OwnedImage, String> {
+    let mut fields = Vec::new();
+    let mut start = 0;
+    let mut i = 0;
+    while fields.len() < 4 && i < bytes.len() {
+        if bytes[i].is_ascii_whitespace() {
+            if i > start {
+                fields.push(String::from_utf8_lossy(&bytes[start..i]).to_string());
+            }
+            start = i + 1;
+        }
+        i += 1;
+    }
+    if fields.len() < 4 || fields[0] != "PF" {
+        return Err("not a colour PFM image (it must start with `PF`)".into());
+    }
+    let parse = |s: &str| s.parse::<u32>().map_err(|_| format!("bad PFM size `{s}`"));
+    let (width, height) = (parse(&fields[1])?, parse(&fields[2])?);
+    let scale: f32 = fields[3]
+        .parse()
+        .map_err(|_| format!("bad PFM scale `{}`", fields[3]))?;
+    let data = &bytes[start..];
+    let n = width as usize * height as usize;
+    if data.len() != n * 12 {
+        return Err(format!(
+            "PFM data holds {} bytes, {width}x{height} needs {}",
+            data.len(),
+            n * 12
+        ));
+    }
+    let value = |k: usize| {
+        let b = [data[4 * k], data[4 * k + 1], data[4 * k + 2], data[4 * k + 3]];
+        if scale < 0.0 {
+            f32::from_le_bytes(b)
+        } else {
+            f32::from_be_bytes(b)
+        }
+    };
+    let mut pixels = vec![Rgb::BLACK; n];
+    for (k, p) in pixels.iter_mut().enumerate() {
+        let (x, y) = (k % width as usize, k / width as usize);
+        let src = (height as usize - 1 - y) * width as usize + x;
+        *p = Rgb::new(value(3 * src), value(3 * src + 1), value(3 * src + 2));
+    }
+    Ok(OwnedImage { width, height, pixels })
+}
+
 fn write_png(w: &mut impl Write, image: &Image, exposure: f32) -> io::Result<()> {
     let scale = exposure.exp2();
     let mut encoder = png::Encoder::new(w, image.width, image.height);
@@ -127,6 +211,31 @@ fn write_pfm(w: &mut impl Write, image: &Image) -> io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn linear_images_read_back_exactly() {
+        let dir = tempfile::tempdir().unwrap();
+        let pixels: Vec<Rgb> = (0..12)
+            .map(|i| Rgb::new(i as f32, 0.5 * i as f32, -1.0 / (1.0 + i as f32)))
+            .collect();
+        let image = Image {
+            width: 4,
+            height: 3,
+            pixels: &pixels,
+        };
+        for ext in ["exr", "pfm"] {
+            let path = dir.path().join(format!("a.{ext}"));
+            write_image(&path, &image, 0.0).unwrap();
+            let back = read_image(&path).unwrap();
+            assert_eq!((back.width, back.height, &back.pixels), (4, 3, &pixels), "{ext}");
+        }
+        let png = dir.path().join("a.png");
+        write_image(&png, &image, 0.0).unwrap();
+        assert!(read_image(&png).is_err());
+        std::fs::write(dir.path().join("bad.pfm"), b"PF\n4 3\n-1.0\n123").unwrap();
+        let e = read_image(&dir.path().join("bad.pfm")).unwrap_err();
+        assert!(e.to_string().contains("needs 144"), "{e}");
+    }
 
     fn sample() -> Vec<Rgb> {
         (0..6).map(|i| Rgb::new(i as f32 * 0.2, 0.5, 2.0)).collect()

@@ -18,11 +18,11 @@
 //! a light picked by power or uniformly. Delta lights (point, spot, directional) can only be
 //! reached by light sampling: every strategy samples them, once per selection.
 
-use super::{shadow_ray, specular_bounces, Integrator, IntegratorOptions, RayCounts};
+use super::nee::{self, LightStrategy, Shading};
+use super::{specular_bounces, Integrator, IntegratorOptions, RayCounts};
 use crate::lights::{AreaSampling, LightSelection};
-use crate::materials::{Material, Phong};
-use crate::{Interaction, Scene};
-use glam::{Vec2, Vec3};
+use crate::Scene;
+use glam::Vec2;
 use penumbra_core::{PixelSampler, Ray, Rgb};
 
 /// How the direct-lighting integral over each light is estimated.
@@ -146,14 +146,6 @@ impl Integrator for Direct {
     }
 }
 
-/// A shading point: the surface, its material, and normals on the side of `wo`.
-struct Shading<'a> {
-    it: &'a Interaction<'a>,
-    m: &'a Phong,
-    n: Vec3,
-    ng: Vec3,
-}
-
 impl Direct {
     fn trace(
         &self,
@@ -167,15 +159,8 @@ impl Direct {
         let Some(it) = scene.intersect(ray, f32::INFINITY) else {
             return scene.background;
         };
-        let Material::Phong(m) = it.material;
-        let s = &it.surface;
-        let side = |v: Vec3| if v.dot(it.wo) < 0.0 { -v } else { v };
-        let sh = Shading {
-            it: &it,
-            m,
-            n: side(s.ns),
-            ng: side(s.ng),
-        };
+        let sh = Shading::new(&it, 1.0);
+        let (m, s) = (sh.m, &it.surface);
         let mut radiance = scene.emitted(&it) + scene.ambient * m.albedo(s.uv);
         if m.has_lobes(s.uv) {
             radiance += self.direct(scene, &sh, sampler, counts);
@@ -279,34 +264,12 @@ impl Direct {
         counts: &mut RayCounts,
     ) -> Rgb {
         let o = &self.options.direct;
-        let light = &scene.lights.lights()[index as usize];
-        let s = &sh.it.surface;
-        let strategy = o.sampling.area_sampling().unwrap_or(AreaSampling::Area);
-        let Some(ls) = light.sample_li(s.p, u, strategy) else {
-            return Rgb::BLACK;
+        let strategy = LightStrategy {
+            sampling: o.sampling.area_sampling().unwrap_or(AreaSampling::Area),
+            samples: batch as f32,
+            mis: (o.sampling == LightSampling::Mis).then_some((o.heuristic, o.light_samples.max(1) as f32)),
         };
-        let cos = sh.n.dot(ls.wi);
-        // (Written to reject NaN directions too.)
-        if !(cos > 0.0 && sh.ng.dot(ls.wi) > 0.0) || ls.li.is_black() {
-            return Rgb::BLACK;
-        }
-        let f = sh.m.eval(s.uv, sh.n, sh.it.wo, ls.wi);
-        if f.is_black() {
-            return Rgb::BLACK;
-        }
-        counts.shadow += 1;
-        let (shadow, t_max) = shadow_ray(s, &ls);
-        if scene.occluded(&shadow, t_max) {
-            return Rgb::BLACK;
-        }
-        let weight = if o.sampling == LightSampling::Mis && !ls.delta {
-            let p_bsdf = sh.m.pdf(s.uv, sh.n, sh.it.wo, ls.wi);
-            o.heuristic
-                .weight(batch as f32 * p_pick * ls.pdf, o.light_samples.max(1) as f32 * p_bsdf)
-        } else {
-            1.0
-        };
-        f * ls.li * (cos * weight / (p_pick * ls.pdf * batch as f32))
+        nee::light_sample(scene, sh, index, p_pick, u, &strategy, counts)
     }
 
     /// One BSDF-sampling estimate: a direction from the BSDF and the area light its ray
@@ -325,7 +288,7 @@ impl Direct {
         let Some(wi) = sh.m.sample(s.uv, sh.n, sh.it.wo, u_lobe, u) else {
             return Rgb::BLACK;
         };
-        let p_bsdf = sh.m.pdf(s.uv, sh.n, sh.it.wo, wi);
+        let p_bsdf = sh.bsdf_pdf(wi);
         if p_bsdf <= 0.0 || sh.ng.dot(wi) <= 0.0 {
             return Rgb::BLACK;
         }
@@ -343,15 +306,22 @@ impl Direct {
         }
         let n = n as f32;
         let weight = if o.sampling == LightSampling::Mis {
-            // The light strategy's density for this direction: the chance of picking the
-            // light times the solid-angle density of the point, with its sample count.
-            let p_pick = scene.lights.pmf(o.selection, index);
-            let p_light = light.pdf(s.p, hit.surface.p, normal, AreaSampling::SolidAngle);
-            o.heuristic.weight(n * p_bsdf, n * p_pick * p_light)
+            let (sel, h) = (o.selection, o.heuristic);
+            nee::emitter_weight(
+                scene,
+                sel,
+                h,
+                s.p,
+                (index, light),
+                hit.surface.p,
+                normal,
+                (n, p_bsdf),
+                n,
+            )
         } else {
             1.0
         };
-        let f = sh.m.eval(s.uv, sh.n, sh.it.wo, wi);
+        let f = sh.eval(wi);
         f * le * (sh.n.dot(wi) * weight / (p_bsdf * n))
     }
 }

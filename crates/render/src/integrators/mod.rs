@@ -4,9 +4,12 @@
 //! in [`IntegratorKind`] and one arm in [`IntegratorKind::create`].
 
 mod direct;
+mod nee;
+mod path;
 mod whitted;
 
 pub use direct::{Direct, DirectOptions, LightSampling, MisHeuristic};
+pub use path::{PathTracer, RR_DEPTH};
 pub use whitted::Whitted;
 
 use crate::lights::LightSample;
@@ -72,15 +75,17 @@ pub enum IntegratorKind {
     #[default]
     Whitted,
     Direct,
+    Path,
 }
 
 impl IntegratorKind {
-    pub const NAMES: [&'static str; 2] = ["whitted", "direct"];
+    pub const NAMES: [&'static str; 3] = ["whitted", "direct", "path"];
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "whitted" => Some(IntegratorKind::Whitted),
             "direct" => Some(IntegratorKind::Direct),
+            "path" => Some(IntegratorKind::Path),
             _ => None,
         }
     }
@@ -89,6 +94,7 @@ impl IntegratorKind {
         match self {
             IntegratorKind::Whitted => Box::new(Whitted { options }),
             IntegratorKind::Direct => Box::new(Direct { options }),
+            IntegratorKind::Path => Box::new(PathTracer { options }),
         }
     }
 }

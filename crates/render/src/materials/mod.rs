@@ -4,7 +4,7 @@
 
 mod phong;
 
-pub use phong::Phong;
+pub use phong::{Phong, SpecularRay};
 
 /// Every material the renderer knows.
 #[derive(Clone, Debug, PartialEq)]

@@ -45,7 +45,7 @@ impl Default for Phong {
 }
 
 /// A secondary ray the material asks for: its direction and weight.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SpecularRay {
     pub wi: Vec3,
     pub weight: Rgb,
