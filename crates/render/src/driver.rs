@@ -1,10 +1,20 @@
 //! The render driver: splits the image into tiles, renders them in parallel with rayon and
 //! gathers them into the film in a fixed order.
 //!
-//! Each pixel's samples depend only on (seed, pixel, sample index), and each pixel is
-//! accumulated by one thread in sample order, so the image is bit-identical for any
-//! thread count and tile order. A raised cancel flag stops work at tile granularity: the
-//! tiles finished so far are kept.
+//! Reconstruction: filters wider than a pixel (radius > 0.5) are applied by splatting, as
+//! Mitsuba does: each sample, at a uniform position in its pixel, is added with weight
+//! f(offset) to every pixel whose centre lies within the filter's radius, and a pixel is
+//! the weighted mean of what it received. Narrower filters are applied by filter importance
+//! sampling (see [`crate::filter`]): the sample position follows the filter and only its own
+//! pixel receives it (a box of tiny radius then samples pixel centres). Splatting uses every
+//! sample in several pixels, which lowers per-pixel variance (by about 1/(4πσ²) for a
+//! Gaussian of standard deviation σ pixels) at the cost of correlated neighbours.
+//!
+//! Each pixel's samples depend only on (seed, pixel, sample index). Each tile accumulates
+//! into its own buffer (with a margin for splats), and the buffers are added into the film
+//! in a fixed tile order, so the image is bit-identical for any thread count and tile
+//! order. A raised cancel flag stops work at tile granularity: the tiles finished so far
+//! are kept.
 
 use crate::film::Pixel;
 use crate::filter::FilterSampler;
@@ -67,7 +77,9 @@ struct Tile {
 
 struct TileResult {
     tile: Tile,
+    /// The tile's pixels and a margin of `margin` pixels on every side, row by row.
     pixels: Vec<Pixel>,
+    margin: u32,
     rejected: u64,
     rays: RayCounts,
 }
@@ -98,7 +110,7 @@ pub fn render(
                 return None;
             }
             let result = render_tile(scene, integrator, options, &filter, tile);
-            progress.advance(result.pixels.len() as u64, result.rays.total());
+            progress.advance((result.tile.size.x * result.tile.size.y) as u64, result.rays.total());
             Some(result)
         })
         .collect();
@@ -110,9 +122,14 @@ pub fn render(
         tiles_done += 1;
         rays.add(&r.rays);
         film.rejected += r.rejected;
+        let m = r.margin as i64;
+        let w = r.tile.size.x as i64 + 2 * m;
         for (i, px) in r.pixels.iter().enumerate() {
-            let (x, y) = (i as u32 % r.tile.size.x, i as u32 / r.tile.size.x);
-            *film.pixel_mut(r.tile.origin.x + x, r.tile.origin.y + y) = *px;
+            let x = r.tile.origin.x as i64 - m + i as i64 % w;
+            let y = r.tile.origin.y as i64 - m + i as i64 / w;
+            if (0..scene.width as i64).contains(&x) && (0..scene.height as i64).contains(&y) {
+                film.pixel_mut(x as u32, y as u32).merge(px);
+            }
         }
     }
     let total_tiles = scene.height.div_ceil(ts) * scene.width.div_ceil(ts);
@@ -133,32 +150,59 @@ fn render_tile(
     tile: Tile,
 ) -> TileResult {
     let mut sampler = PixelSampler::new(options.sampler, options.seed, options.spp);
-    let mut pixels = Vec::with_capacity(tile.size.x as usize * tile.size.y as usize);
+    let radius = scene.filter.radius();
+    let splat = radius > 0.5;
+    let margin = if splat { (radius - 0.5).ceil() as u32 } else { 0 };
+    let stride = tile.size.x + 2 * margin;
+    let mut pixels = vec![Pixel::default(); (stride * (tile.size.y + 2 * margin)) as usize];
     let mut rays = RayCounts::default();
     let mut rejected = 0;
     for y in 0..tile.size.y {
         for x in 0..tile.size.x {
             let pixel = tile.origin + UVec2::new(x, y);
-            let mut acc = Pixel::default();
             for index in 0..options.spp {
                 sampler.start(pixel, index);
-                let (offset, weight) = filter.sample(sampler.next_2d());
-                let film_pos = pixel.as_vec2() + Vec2::splat(0.5) + offset;
+                let u = sampler.next_2d();
+                let (film_pos, weight) = if splat {
+                    (pixel.as_vec2() + u, 1.0)
+                } else {
+                    let (offset, weight) = filter.sample(u);
+                    (pixel.as_vec2() + Vec2::splat(0.5) + offset, weight)
+                };
                 let ray = scene.camera.generate_ray(film_pos);
                 rays.camera += 1;
                 let l = integrator.li(scene, &ray, &mut sampler, &mut rays);
-                if l.is_finite() {
-                    acc.add(l, weight);
-                } else {
+                let own = ((y + margin) * stride + x + margin) as usize;
+                pixels[own].samples += 1;
+                if !l.is_finite() {
                     rejected += 1;
+                    continue;
+                }
+                if !splat {
+                    pixels[own].add(l, weight);
+                    continue;
+                }
+                // Every pixel whose centre is within the radius of the sample, in the
+                // tile's buffer coordinates (the tile's first pixel at (margin, margin)).
+                let local = film_pos - tile.origin.as_vec2() + Vec2::splat(margin as f32);
+                let lo = (local - Vec2::splat(radius + 0.5)).ceil().max(Vec2::ZERO);
+                let hi = (local + Vec2::splat(radius - 0.5)).floor();
+                for py in lo.y as u32..=(hi.y as u32).min(tile.size.y + 2 * margin - 1) {
+                    let wy = scene.filter.eval_1d(py as f32 + 0.5 - local.y);
+                    for px in lo.x as u32..=(hi.x as u32).min(stride - 1) {
+                        let w = wy * scene.filter.eval_1d(px as f32 + 0.5 - local.x);
+                        if w != 0.0 {
+                            pixels[(py * stride + px) as usize].add(l, w);
+                        }
+                    }
                 }
             }
-            pixels.push(acc);
         }
     }
     TileResult {
         tile,
         pixels,
+        margin,
         rejected,
         rays,
     }

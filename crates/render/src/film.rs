@@ -10,14 +10,23 @@ pub struct Pixel {
     pub sum: Rgb,
     /// Sum of filter weights.
     pub weight: f32,
+    /// Samples taken in this pixel, including rejected ones.
     pub samples: u32,
 }
 
 impl Pixel {
+    /// Adds a weighted sample, or a weighted share of one taken in a neighbouring pixel
+    /// (the pixel's own sample count is kept apart).
     pub fn add(&mut self, radiance: Rgb, weight: f32) {
         self.sum += radiance * weight;
         self.weight += weight;
-        self.samples += 1;
+    }
+
+    /// Adds everything `other` accumulated.
+    pub fn merge(&mut self, other: &Pixel) {
+        self.sum += other.sum;
+        self.weight += other.weight;
+        self.samples += other.samples;
     }
 
     /// The pixel's estimate: the weighted mean of its samples (black without samples).

@@ -1,8 +1,8 @@
-//! Pixel reconstruction filters, applied by filter importance sampling (Ernst et al.,
-//! "Filter Importance Sampling", 2006; as in pbrt-v4): each sample's position is drawn
-//! from the filter around the pixel centre, and the pixel is the weighted mean of its own
-//! samples. A pixel then depends on its own samples only, which keeps tiles independent
-//! and renders deterministic.
+//! Pixel reconstruction filters. Filters wider than a pixel are splatted by the driver (see
+//! [`crate::driver`]); narrower ones are applied by filter importance sampling (Ernst et
+//! al., "Filter Importance Sampling", 2006; as in pbrt-v4) with [`FilterSampler`]: each
+//! sample's position is drawn from the filter around the pixel centre, and the pixel is the
+//! weighted mean of its own samples.
 //!
 //! Native format (`[render] filter = { type = "gaussian", radius = 1.5, sigma = 0.5 }`):
 //! `box` (radius 0.5), `tent` (radius 1), `gaussian` (radius 1.5, sigma 0.5; the
