@@ -13,14 +13,20 @@ pub struct Errors {
     pub rel_mse: f64,
     /// Mean of |a − r| / (|r| + 0.01).
     pub mean_abs_rel: f64,
+    /// Mean of the image over mean of the reference, per channel: a global bias shows here
+    /// even when noise dominates the other metrics.
+    pub mean_ratio: [f64; 3],
 }
 
 /// The errors of `image` against `reference` (same size; pixels compared in order).
 pub fn compare(image: &[Rgb], reference: &[Rgb]) -> Errors {
     assert_eq!(image.len(), reference.len(), "images of different sizes");
     let (mut se, mut rel, mut abs) = (0f64, 0f64, 0f64);
+    let (mut sum_a, mut sum_r) = ([0f64; 3], [0f64; 3]);
     for (a, r) in image.iter().zip(reference) {
-        for (x, y) in a.to_array().into_iter().zip(r.to_array()) {
+        for (k, (x, y)) in a.to_array().into_iter().zip(r.to_array()).enumerate() {
+            sum_a[k] += x as f64;
+            sum_r[k] += y as f64;
             let (x, y) = (x as f64, y as f64);
             let d = x - y;
             se += d * d;
@@ -33,6 +39,7 @@ pub fn compare(image: &[Rgb], reference: &[Rgb]) -> Errors {
         rmse: (se / n).sqrt(),
         rel_mse: rel / n,
         mean_abs_rel: abs / n,
+        mean_ratio: [0, 1, 2].map(|k| sum_a[k] / sum_r[k]),
     }
 }
 

@@ -49,11 +49,15 @@ pub fn run(args: DiffArgs) -> Result<(), Failure> {
     };
     let against = args.reference.as_deref().unwrap_or(&args.b);
     println!("against {}:", against.display());
-    println!("{:<40} {:>12} {:>12} {:>12}", "image", "RMSE", "relMSE", "mean |rel|");
+    println!(
+        "{:<40} {:>12} {:>12} {:>12}  {}",
+        "image", "RMSE", "relMSE", "mean |rel|", "mean ratio (R, G, B)"
+    );
     for (path, img) in judged {
         let e = compare(&img.pixels, &reference.pixels);
+        let [r, g, b] = e.mean_ratio;
         println!(
-            "{:<40} {:>12.4e} {:>12.4e} {:>12.4e}",
+            "{:<40} {:>12.4e} {:>12.4e} {:>12.4e}  {r:.5} {g:.5} {b:.5}",
             path.display(),
             e.rmse,
             e.rel_mse,

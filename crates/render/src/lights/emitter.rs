@@ -120,14 +120,18 @@ impl Emitter {
         Some(EmitterSample { point, normal, pdf })
     }
 
-    /// For a sphere seen from outside: the cosine of the half-angle of the cone it fills.
+    /// For a sphere seen from outside (not from its surface): the cosine of the half-angle of
+    /// the cone it fills.
     fn cone_cos_max(&self, p: Vec3) -> Option<f32> {
         let EmitterShape::Sphere { center, radius } = &self.shape else {
             return None;
         };
         let dist2 = (*center - p).length_squared();
         let cos_max = (1.0 - radius * radius / dist2).max(0.0).sqrt();
-        (dist2 > radius * radius && cos_max < 1.0).then_some(cos_max)
+        // Points on the surface itself (a shading point on the sphere, inside or out) are
+        // not "outside": rounding could put them on either side, and the cone from the
+        // surface degenerates to a hemisphere whose nearer intersection is the point itself.
+        (dist2 > radius * radius * (1.0 + 1e-3) && cos_max < 1.0).then_some(cos_max)
     }
 
     /// Whether [`Emitter::sample_solid_angle`] samples the solid angle from `p`, and if so

@@ -1,0 +1,115 @@
+//! The path tracer against closed forms.
+//!
+//! Furnace: a camera inside a closed sphere whose inside emits radiance Le and reflects
+//! diffusely with albedo ρ sees L = Le (1 + ρ + ... + ρ^(D-1)) = Le (1 - ρ^D) / (1 - ρ) when
+//! paths have at most D segments (Mitsuba's `max_depth`): every bounce adds one more
+//! reflection of the same emission. Next-event estimation, MIS and Russian roulette must
+//! leave the mean unchanged.
+
+use penumbra::math::{PixelSampler, Ray, SamplerKind, UVec2, Vec3};
+use penumbra::renderer::integrators::{IntegratorKind, IntegratorOptions};
+use penumbra::renderer::{RayCounts, Scene};
+use penumbra::scene::{build_scene, SourceFile};
+
+fn furnace(albedo: f32) -> Scene {
+    let text = format!(
+        "[[material]]\nname = \"wall\"\ndiffuse = {albedo}\n\n\
+         [[shape]]\ntype = \"sphere\"\nradius = 2\nmaterial = \"wall\"\nemission = 1\ntwo_sided = true\n"
+    );
+    let desc = penumbra::scene::formats::native::read(&SourceFile::new("furnace.toml", text)).unwrap();
+    build_scene(&desc).unwrap()
+}
+
+/// Mean and standard error of `n` path-traced estimates from points inside the sphere.
+fn estimate(scene: &Scene, max_depth: u32, n: u32) -> (f64, f64) {
+    let integrator = IntegratorKind::Path.create(IntegratorOptions {
+        max_depth,
+        ..IntegratorOptions::default()
+    });
+    let mut sampler = PixelSampler::new(SamplerKind::Independent, 11, n);
+    let mut counts = RayCounts::default();
+    let (mut sum, mut sum2) = (0f64, 0f64);
+    for i in 0..n {
+        sampler.start(UVec2::new(i % 1009, i / 1009), i);
+        // Rays from off-centre points in varied directions.
+        let (a, b) = (i as f32 * 0.618_034, i as f32 * 0.414_214);
+        let origin = Vec3::new(a.sin(), b.cos(), (a + b).sin()) * 0.8;
+        let dir = Vec3::new((3.0 * a).cos(), (5.0 * b).sin(), (7.0 * a).sin() + 0.1);
+        let l = integrator
+            .li(scene, &Ray::new(origin, dir), &mut sampler, &mut counts)
+            .r as f64;
+        sum += l;
+        sum2 += l * l;
+    }
+    let mean = sum / n as f64;
+    let var = (sum2 / n as f64 - mean * mean).max(0.0) * n as f64 / (n - 1) as f64;
+    (mean, (var / n as f64).sqrt())
+}
+
+#[test]
+fn furnace_sphere_gives_the_geometric_series_for_every_max_depth() {
+    for albedo in [0.5f32, 0.9] {
+        let scene = furnace(albedo);
+        for depth in [1u32, 2, 3, 5, 8, 40] {
+            let rho = albedo as f64;
+            let expected = (1.0 - rho.powi(depth as i32)) / (1.0 - rho);
+            let (mean, se) = estimate(&scene, depth, 20_000);
+            println!("albedo {albedo}, max depth {depth}: {mean:.5} +- {se:.5}, expected {expected:.5}");
+            if depth <= 2 {
+                // Emission only, then emission + one reflection: NEE and MIS, no roulette.
+                assert!(
+                    (mean - expected).abs() <= 3.0 * se + 1e-4,
+                    "depth {depth}: {mean} vs {expected}"
+                );
+            } else {
+                assert!(se > 0.0 && se < 0.01 * expected, "depth {depth}: standard error {se}");
+                assert!(
+                    (mean - expected).abs() <= 3.0 * se + 1e-4 * expected,
+                    "albedo {albedo}, depth {depth}: {mean} is {:.1} standard errors from {expected}",
+                    (mean - expected).abs() / se
+                );
+            }
+        }
+    }
+}
+
+/// Direct lighting inside the furnace is 1 + ρ for every strategy, also for shading points
+/// on the emitting sphere hit obliquely (where rounding once made the sphere's cone sampling
+/// treat the point as outside: solid-angle sampling then lost 12% of the light).
+#[test]
+fn direct_strategies_inside_the_furnace_give_one_bounce() {
+    use penumbra::renderer::integrators::{DirectOptions, LightSampling};
+    let scene = furnace(0.5);
+    for s in [
+        LightSampling::Uniform,
+        LightSampling::SolidAngle,
+        LightSampling::Bsdf,
+        LightSampling::Mis,
+    ] {
+        let integrator = IntegratorKind::Direct.create(IntegratorOptions {
+            direct: DirectOptions {
+                sampling: s,
+                ..DirectOptions::default()
+            },
+            ..IntegratorOptions::default()
+        });
+        let mut sampler = PixelSampler::new(SamplerKind::Independent, 11, 1);
+        let mut counts = RayCounts::default();
+        let n = 10_000;
+        for (o, d) in [
+            (Vec3::ZERO, Vec3::new(0.3, 0.4, 0.5)),
+            (Vec3::new(1.2, 0.0, 0.0), Vec3::Y),
+        ] {
+            let (mut sum, mut sum2) = (0f64, 0f64);
+            for i in 0..n {
+                sampler.start(UVec2::new(i % 1009, i / 1009), i);
+                let l = integrator.li(&scene, &Ray::new(o, d), &mut sampler, &mut counts).r as f64;
+                sum += l;
+                sum2 += l * l;
+            }
+            let mean = sum / n as f64;
+            let se = ((sum2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt();
+            assert!((mean - 1.5).abs() <= 3.0 * se + 1e-4, "{s:?} from {o}: {mean} +- {se}");
+        }
+    }
+}
