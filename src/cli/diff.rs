@@ -50,8 +50,8 @@ pub fn run(args: DiffArgs) -> Result<(), Failure> {
     let against = args.reference.as_deref().unwrap_or(&args.b);
     println!("against {}:", against.display());
     println!(
-        "{:<40} {:>12} {:>12} {:>12}  {}",
-        "image", "RMSE", "relMSE", "mean |rel|", "mean ratio (R, G, B)"
+        "{:<40} {:>12} {:>12} {:>12}  mean ratio (R, G, B)",
+        "image", "RMSE", "relMSE", "mean |rel|"
     );
     for (path, img) in judged {
         let e = compare(&img.pixels, &reference.pixels);
