@@ -17,7 +17,10 @@ fn relative_mse_against_mitsuba_falls_like_one_over_spp() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let reference = root.join("../shared/references/mitsuba-cbox/cbox_ref.exr");
     if !reference.exists() {
-        println!("note: skipping: {} is not there (../shared is not beside the repository)", reference.display());
+        println!(
+            "note: skipping: {} is not there (../shared is not beside the repository)",
+            reference.display()
+        );
         return;
     }
     let reference = read_image(&reference).unwrap();
@@ -29,11 +32,19 @@ fn relative_mse_against_mitsuba_falls_like_one_over_spp() {
         desc.render.spp = spp;
         desc.render.seed = spp as u64;
         let result = penumbra::render(&desc, &penumbra::RenderControl::default()).unwrap();
-        assert_eq!((result.film.width, result.film.height), (reference.width, reference.height));
+        assert_eq!(
+            (result.film.width, result.film.height),
+            (reference.width, reference.height)
+        );
         let e = compare(&result.film.image(), &reference.pixels);
         println!("{spp} spp: relMSE {:.4e}, mean ratio {:?}", e.rel_mse, e.mean_ratio);
-        // No global bias: the image's mean matches the reference's within 0.5% per channel.
-        assert!(e.mean_ratio.iter().all(|r| (r - 1.0).abs() < 0.005), "{spp} spp: {e:?}");
+        // No global bias: the image's mean matches the reference's per channel, within 1%
+        // at 16 spp (where we measured deviations of 0.35%) and 0.2% at 1024 (0.012%).
+        let tolerance = if spp >= 1024 { 0.002 } else { 0.01 };
+        assert!(
+            e.mean_ratio.iter().all(|r| (r - 1.0).abs() < tolerance),
+            "{spp} spp: {e:?}"
+        );
         errors.push(e.rel_mse);
     }
     // Each 4x more samples divides the error by 4, within a factor 1.5.
@@ -45,12 +56,12 @@ fn relative_mse_against_mitsuba_falls_like_one_over_spp() {
             spp * 4
         );
     }
-    // Against Mitsuba's own scores at the same spp. The issue asks for 1.2x at 1024 spp;
-    // we are at about 1.44x there (a bias at the light's edges, see docs/path-tracing.md),
-    // so this asserts 1.5x until that is found, and 1.2x where noise dominates.
+    // Within 1.2x of Mitsuba's own scores at the same spp: no bias hidden under the noise.
     let mitsuba = [5.3e-3, 1.33e-3, 3.4e-4, 8.7e-5];
-    for (k, (ours, theirs)) in errors.iter().zip(mitsuba).enumerate() {
-        let limit = if k < 2 { 1.2 } else { 1.5 };
-        assert!(ours / theirs <= limit, "relMSE {ours:.3e} vs Mitsuba's {theirs:.3e}: {errors:?}");
+    for (ours, theirs) in errors.iter().zip(mitsuba) {
+        assert!(
+            ours / theirs <= 1.2,
+            "relMSE {ours:.3e} vs Mitsuba's {theirs:.3e}: {errors:?}"
+        );
     }
 }

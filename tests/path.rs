@@ -113,3 +113,33 @@ fn direct_strategies_inside_the_furnace_give_one_bounce() {
         }
     }
 }
+
+/// The back of a one-sided emitting mesh, lit by nothing else, is black from every point:
+/// a hit point that rounding puts on the emitting side must not see its own light (it once
+/// did, at full strength, which biased Mitsuba's Cornell box near its light).
+#[test]
+fn the_back_of_a_one_sided_light_is_black_everywhere() {
+    let text = "[[material]]\nname = \"white\"\ndiffuse = 0.9\n\n\
+                [[shape]]\ntype = \"mesh\"\nmaterial = \"white\"\nemission = 10\n\
+                positions = [[-0.23, 0.99, -0.18], [0.23, 0.99, -0.18], [-0.23, 0.99, 0.2], [0.23, 0.99, 0.2]]\n\
+                indices = [[1, 2, 0], [1, 3, 2]]\n";
+    let desc = penumbra::scene::formats::native::read(&SourceFile::new("back.toml", text.into())).unwrap();
+    let scene = build_scene(&desc).unwrap();
+    for kind in [IntegratorKind::Path, IntegratorKind::Direct, IntegratorKind::Whitted] {
+        let integrator = kind.create(IntegratorOptions {
+            max_depth: 3,
+            ..IntegratorOptions::default()
+        });
+        let mut sampler = PixelSampler::new(SamplerKind::Independent, 5, 1);
+        let mut counts = RayCounts::default();
+        for i in 0..20_000u32 {
+            sampler.start(UVec2::new(i, 0), 0);
+            // Rays from above onto the light's back, at points spread over it.
+            let (a, b) = ((i as f32 * 0.618_034).fract(), (i as f32 * 0.414_214).fract());
+            let target = Vec3::new(-0.23 + 0.46 * a, 0.99, -0.18 + 0.38 * b);
+            let origin = Vec3::new(0.1, 1.5, 0.05);
+            let l = integrator.li(&scene, &Ray::new(origin, target - origin), &mut sampler, &mut counts);
+            assert_eq!(l, penumbra::math::Rgb::BLACK, "{kind:?}: ray {i} to {target}");
+        }
+    }
+}

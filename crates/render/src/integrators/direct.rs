@@ -293,7 +293,7 @@ impl Direct {
             return Rgb::BLACK;
         }
         counts.secondary += 1;
-        let Some(hit) = scene.intersect(&Ray::spawn(s.p, s.ng, wi), f32::INFINITY) else {
+        let Some(hit) = scene.intersect(&Ray::new(sh.origin, wi), f32::INFINITY) else {
             return Rgb::BLACK;
         };
         let Some((index, light)) = scene.emitter_at(&hit) else {
@@ -311,7 +311,7 @@ impl Direct {
                 scene,
                 sel,
                 h,
-                s.p,
+                sh.origin,
                 (index, light),
                 hit.surface.p,
                 normal,

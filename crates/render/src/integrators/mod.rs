@@ -99,12 +99,17 @@ impl IntegratorKind {
     }
 }
 
-/// The shadow ray from the surface `s` towards the light of `ls`, and its `t_max`.
-pub(crate) fn shadow_ray(s: &SurfaceHit, ls: &LightSample) -> (Ray, f32) {
+/// The shadow ray from `origin` (a surface point already pushed off its surface) towards the
+/// light of `ls`, and its `t_max`, which stops it just short of the light.
+pub(crate) fn shadow_ray(origin: Vec3, ls: &LightSample) -> (Ray, f32) {
     if ls.dist.is_finite() {
-        Ray::spawn_to(s.p, s.ng, s.p + ls.wi * ls.dist)
+        let target = origin + ls.wi * ls.dist;
+        (
+            Ray::new(origin, target - origin),
+            1.0 - penumbra_core::ray::SHADOW_EPSILON,
+        )
     } else {
-        (Ray::spawn(s.p, s.ng, ls.wi), f32::INFINITY)
+        (Ray::new(origin, ls.wi), f32::INFINITY)
     }
 }
 

@@ -7,6 +7,7 @@ use crate::lights::{AreaLight, AreaSampling, LightSelection};
 use crate::materials::{Material, Phong};
 use crate::{Interaction, Scene};
 use glam::{Vec2, Vec3};
+use penumbra_core::ray::offset_origin;
 use penumbra_core::Rgb;
 
 /// A shading point: the surface, its material, and normals on the side of `wo`.
@@ -18,18 +19,25 @@ pub(super) struct Shading<'a> {
     /// Probability that the integrator's BSDF sampling takes the diffuse + glossy part (the
     /// rest goes to the perfectly specular rays): it scales the BSDF density in MIS weights.
     pub lobe_probability: f32,
+    /// Where lights are seen from: the surface point pushed off the surface on the side of
+    /// `wo`, the origin of every shadow and reflected ray. Sampling lights from the raw hit
+    /// point would let a point on an emitter (its back, say) land on the emitting side by
+    /// rounding and be lit by its own surface at full strength.
+    pub origin: Vec3,
 }
 
 impl<'a> Shading<'a> {
     pub fn new(it: &'a Interaction<'a>, lobe_probability: f32) -> Self {
         let Material::Phong(m) = it.material;
         let side = |v: Vec3| if v.dot(it.wo) < 0.0 { -v } else { v };
+        let ng = side(it.surface.ng);
         Shading {
             it,
             m,
             n: side(it.surface.ns),
-            ng: side(it.surface.ng),
+            ng,
             lobe_probability,
+            origin: offset_origin(it.surface.p, ng),
         }
     }
 
@@ -66,8 +74,7 @@ pub(super) fn light_sample(
     counts: &mut RayCounts,
 ) -> Rgb {
     let light = &scene.lights.lights()[index as usize];
-    let s = &sh.it.surface;
-    let Some(ls) = light.sample_li(s.p, u, strategy.sampling) else {
+    let Some(ls) = light.sample_li(sh.origin, u, strategy.sampling) else {
         return Rgb::BLACK;
     };
     let cos = sh.n.dot(ls.wi);
@@ -80,7 +87,7 @@ pub(super) fn light_sample(
         return Rgb::BLACK;
     }
     counts.shadow += 1;
-    let (shadow, t_max) = shadow_ray(s, &ls);
+    let (shadow, t_max) = shadow_ray(sh.origin, &ls);
     if scene.occluded(&shadow, t_max) {
         return Rgb::BLACK;
     }

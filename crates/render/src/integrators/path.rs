@@ -111,7 +111,7 @@ impl Integrator for PathTracer {
                     break;
                 }
                 beta *= sh.eval(wi) * (sh.n.dot(wi) / pdf);
-                previous = Some((s.p, pdf));
+                previous = Some((sh.origin, pdf));
                 wi
             } else {
                 // The specular ray whose share of the albedo holds u_choice.

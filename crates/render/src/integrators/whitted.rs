@@ -10,6 +10,7 @@ use crate::lights::AreaSampling;
 use crate::materials::Material;
 use crate::Scene;
 use glam::Vec2;
+use penumbra_core::ray::offset_origin;
 use penumbra_core::{PixelSampler, Ray, Rgb};
 
 pub struct Whitted {
@@ -36,9 +37,11 @@ impl Whitted {
         let n = if s.ns.dot(wo) < 0.0 { -s.ns } else { s.ns };
         let ng = if s.ng.dot(wo) < 0.0 { -s.ng } else { s.ng };
 
+        // Lights are seen from the point pushed off the surface on the viewer's side.
+        let origin = offset_origin(s.p, ng);
         let mut radiance = scene.emitted(&it) + scene.ambient * m.albedo(s.uv);
         for light in scene.lights.lights() {
-            let Some(ls) = light.sample_li(s.p, Vec2::splat(0.5), AreaSampling::SolidAngle) else {
+            let Some(ls) = light.sample_li(origin, Vec2::splat(0.5), AreaSampling::SolidAngle) else {
                 continue;
             };
             let cos = n.dot(ls.wi);
@@ -50,7 +53,7 @@ impl Whitted {
                 continue;
             }
             counts.shadow += 1;
-            let (shadow, t_max) = shadow_ray(s, &ls);
+            let (shadow, t_max) = shadow_ray(origin, &ls);
             if !scene.occluded(&shadow, t_max) {
                 // An area light's sample is a point on it: divide by its density, as a
                 // point light of intensity L A cos θ_light.
