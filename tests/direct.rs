@@ -13,6 +13,7 @@ use penumbra::renderer::integrators::{DirectOptions, IntegratorKind, IntegratorO
 use penumbra::renderer::lights::LightSelection;
 use penumbra::renderer::{RayCounts, Scene};
 use penumbra::scene::{build_scene, SourceFile};
+use penumbra_testkit::MeanEstimate;
 
 const ALBEDO: f32 = 0.5;
 const RADIANCE: f32 = 2.0;
@@ -72,16 +73,12 @@ fn estimate_from(origin: Vec3, scene: &Scene, direct: DirectOptions, n: u32) -> 
     });
     let mut sampler = PixelSampler::new(SamplerKind::Independent, 7, n);
     let mut counts = RayCounts::default();
-    let (mut sum, mut sum2) = (0f64, 0f64);
+    let mut m = MeanEstimate::default();
     for i in 0..n {
         sampler.start(UVec2::new(i % 997, i / 997), i);
-        let l = integrator.li(scene, &ray, &mut sampler, &mut counts).g as f64;
-        sum += l;
-        sum2 += l * l;
+        m.push(integrator.li(scene, &ray, &mut sampler, &mut counts).g as f64);
     }
-    let mean = sum / n as f64;
-    let var = (sum2 / n as f64 - mean * mean).max(0.0) * n as f64 / (n - 1) as f64;
-    (mean, (var / n as f64).sqrt())
+    (m.mean(), m.standard_error())
 }
 
 fn options(sampling: LightSampling, light_samples: u32) -> DirectOptions {

@@ -10,6 +10,7 @@ use penumbra::math::{PixelSampler, Ray, SamplerKind, UVec2, Vec3};
 use penumbra::renderer::integrators::{IntegratorKind, IntegratorOptions};
 use penumbra::renderer::{RayCounts, Scene};
 use penumbra::scene::{build_scene, SourceFile};
+use penumbra_testkit::MeanEstimate;
 
 fn furnace(albedo: f32) -> Scene {
     let text = format!(
@@ -28,22 +29,20 @@ fn estimate(scene: &Scene, max_depth: u32, n: u32) -> (f64, f64) {
     });
     let mut sampler = PixelSampler::new(SamplerKind::Independent, 11, n);
     let mut counts = RayCounts::default();
-    let (mut sum, mut sum2) = (0f64, 0f64);
+    let mut m = MeanEstimate::default();
     for i in 0..n {
         sampler.start(UVec2::new(i % 1009, i / 1009), i);
         // Rays from off-centre points in varied directions.
         let (a, b) = (i as f32 * 0.618_034, i as f32 * 0.414_214);
         let origin = Vec3::new(a.sin(), b.cos(), (a + b).sin()) * 0.8;
         let dir = Vec3::new((3.0 * a).cos(), (5.0 * b).sin(), (7.0 * a).sin() + 0.1);
-        let l = integrator
-            .li(scene, &Ray::new(origin, dir), &mut sampler, &mut counts)
-            .r as f64;
-        sum += l;
-        sum2 += l * l;
+        m.push(
+            integrator
+                .li(scene, &Ray::new(origin, dir), &mut sampler, &mut counts)
+                .r as f64,
+        );
     }
-    let mean = sum / n as f64;
-    let var = (sum2 / n as f64 - mean * mean).max(0.0) * n as f64 / (n - 1) as f64;
-    (mean, (var / n as f64).sqrt())
+    (m.mean(), m.standard_error())
 }
 
 #[test]
@@ -100,15 +99,12 @@ fn direct_strategies_inside_the_furnace_give_one_bounce() {
             (Vec3::ZERO, Vec3::new(0.3, 0.4, 0.5)),
             (Vec3::new(1.2, 0.0, 0.0), Vec3::Y),
         ] {
-            let (mut sum, mut sum2) = (0f64, 0f64);
+            let mut m = MeanEstimate::default();
             for i in 0..n {
                 sampler.start(UVec2::new(i % 1009, i / 1009), i);
-                let l = integrator.li(&scene, &Ray::new(o, d), &mut sampler, &mut counts).r as f64;
-                sum += l;
-                sum2 += l * l;
+                m.push(integrator.li(&scene, &Ray::new(o, d), &mut sampler, &mut counts).r as f64);
             }
-            let mean = sum / n as f64;
-            let se = ((sum2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt();
+            let (mean, se) = (m.mean(), m.standard_error());
             assert!((mean - 1.5).abs() <= 3.0 * se + 1e-4, "{s:?} from {o}: {mean} +- {se}");
         }
     }

@@ -13,7 +13,10 @@
 //! distribution (via `statrs`) at a significance level corrected for the number of tests
 //! run (Šidák).
 
+mod mean;
 mod quadrature;
+
+pub use mean::MeanEstimate;
 
 use glam::{Vec2, Vec3};
 use std::f64::consts::PI;

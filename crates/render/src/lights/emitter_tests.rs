@@ -155,7 +155,7 @@ fn hit_point(e: &Emitter, p: Vec3, w: Vec3) -> (Vec3, Vec3) {
 /// samples of one strategy: mean and standard error.
 fn irradiance(e: &Emitter, p: Vec3, n: usize, seed: u64, solid_angle: bool) -> (f64, f64) {
     let mut u = Uniforms::new(seed);
-    let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+    let mut m = penumbra_testkit::MeanEstimate::default();
     for _ in 0..n {
         let s = if solid_angle {
             e.sample_solid_angle(p, u.next_vec2())
@@ -172,11 +172,9 @@ fn irradiance(e: &Emitter, p: Vec3, n: usize, seed: u64, solid_angle: bool) -> (
                 0.0
             }
         });
-        sum += v;
-        sum2 += v * v;
+        m.push(v);
     }
-    let mean = sum / n as f64;
-    (mean, ((sum2 / n as f64 - mean * mean) / n as f64).sqrt())
+    (m.mean(), m.standard_error())
 }
 
 #[test]
