@@ -385,3 +385,27 @@ fn bench_accel_counts_hits_that_differ_from_the_expected_ones() {
         );
     }
 }
+
+#[test]
+fn bench_render_reports_speed() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo().join("scenes/box-light.toml");
+    let out = penumbra(
+        dir.path(),
+        &[
+            "bench",
+            "render",
+            scene.to_str().unwrap(),
+            "--spp",
+            "1",
+            "--repeats",
+            "2",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("Msamples/s best") && stdout.contains("rays per sample"),
+        "{stdout}"
+    );
+}

@@ -14,6 +14,9 @@ use std::sync::Arc;
 pub enum BenchCommand {
     /// Build and race the acceleration structures on a mesh (.ply, .obj) or scene (.toml).
     Accel(AccelArgs),
+    /// Time renders of a scene: samples/s, rays/s, rays per sample; `--mitsuba` measures
+    /// Mitsuba 3 on its Cornell box in the same command.
+    Render(super::bench_render::RenderBenchArgs),
 }
 
 #[derive(Args, Debug)]
@@ -43,7 +46,10 @@ pub struct AccelArgs {
 }
 
 pub fn run(command: BenchCommand) -> Result<(), Failure> {
-    let BenchCommand::Accel(args) = command;
+    let args = match command {
+        BenchCommand::Accel(args) => args,
+        BenchCommand::Render(args) => return super::bench_render::run(args),
+    };
     let bad = |m: String| Failure::BadInput(miette::miette!("{m}"));
     let kinds: Vec<AccelKind> = if args.accel.is_empty() {
         AccelKind::NAMES

@@ -1,6 +1,7 @@
 //! Command-line arguments and dispatch.
 
 mod bench;
+mod bench_render;
 mod diff;
 mod progress;
 mod render;
