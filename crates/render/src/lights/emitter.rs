@@ -23,6 +23,10 @@ pub enum EmitterShape {
     Sphere { center: Vec3, radius: f32 },
 }
 
+/// Below this (in steradians, estimated as area / distance²) a flat emitter is sampled by
+/// area even when solid-angle sampling is asked for; see `Emitter::looks_small`.
+pub const SMALL_SOLID_ANGLE: f32 = 0.05;
+
 /// An emitting surface with what sampling needs of it worked out once, at scene setup.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Emitter {
@@ -138,6 +142,9 @@ impl Emitter {
     /// its (constant) density there; `None` means it falls back to area sampling: disks and
     /// sheared quads, a point inside a sphere, polygons too small or far to sample well.
     fn solid_angle_density(&self, p: Vec3) -> Option<f32> {
+        if self.looks_small(p) {
+            return None;
+        }
         let omega = match &self.shape {
             EmitterShape::Sphere { .. } => 2.0 * PI * (1.0 - self.cone_cos_max(p)?),
             EmitterShape::Triangle { v } => spherical::triangle_solid_angle(p, *v),
@@ -147,6 +154,19 @@ impl Emitter {
             _ => return None,
         };
         (omega >= spherical::MIN_SOLID_ANGLE).then(|| 1.0 / omega)
+    }
+
+    /// Whether a flat emitter subtends so little from `p` (area / distance² to its centroid
+    /// below [`SMALL_SOLID_ANGLE`]) that spherical sampling, which costs inverse
+    /// trigonometry in double precision, would barely beat area sampling: cos θ and 1/r²
+    /// hardly vary over it. (Spheres keep their cheap cone sampling.)
+    fn looks_small(&self, p: Vec3) -> bool {
+        let centroid = match &self.shape {
+            EmitterShape::Triangle { v } => (v[0] + v[1] + v[2]) / 3.0,
+            EmitterShape::Quad { corner, e1, e2 } => *corner + 0.5 * (*e1 + *e2),
+            _ => return false,
+        };
+        self.area < SMALL_SOLID_ANGLE * (centroid - p).length_squared()
     }
 
     /// A point whose direction from `p` is uniform over the solid angle the emitter
