@@ -139,3 +139,42 @@ fn the_back_of_a_one_sided_light_is_black_everywhere() {
         }
     }
 }
+
+/// Glass in a furnace: inside a closed sphere that emits radiance 1 everywhere (and reflects
+/// nothing), a clear glass ball (index 1.5) must look exactly as bright as its surroundings
+/// (radiance is conserved through lossless interfaces: the 1/η² of entering and the η² of
+/// leaving cancel). Tests the Fresnel split, the radiance scaling and the path tracer's
+/// choice among specular rays.
+#[test]
+fn a_glass_ball_vanishes_in_a_furnace() {
+    let text = "[[material]]\nname = \"black\"\ndiffuse = 0\n\n\
+                [[material]]\nname = \"glass\"\ndiffuse = 0\ntransmission = 1\nior = 1.5\n\n\
+                [[shape]]\ntype = \"sphere\"\nradius = 3\nmaterial = \"black\"\nemission = 1\ntwo_sided = true\n\n\
+                [[shape]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"glass\"\n";
+    let desc = penumbra::scene::formats::native::read(&SourceFile::new("glass.toml", text.into())).unwrap();
+    let scene = build_scene(&desc).unwrap();
+    let integrator = IntegratorKind::Path.create(IntegratorOptions {
+        max_depth: 40,
+        ..IntegratorOptions::default()
+    });
+    let mut sampler = PixelSampler::new(SamplerKind::Independent, 3, 1);
+    let mut counts = RayCounts::default();
+    let mut m = MeanEstimate::default();
+    for i in 0..20_000u32 {
+        sampler.start(UVec2::new(i, 0), 0);
+        // From outside the ball towards points spread over its visible face.
+        let (a, b) = (
+            (i as f32 * 0.618_034).fract() - 0.5,
+            (i as f32 * 0.414_214).fract() - 0.5,
+        );
+        let origin = Vec3::new(0.0, 0.0, 2.5);
+        let dir = Vec3::new(1.6 * a, 1.6 * b, -2.5);
+        m.push(
+            integrator
+                .li(&scene, &Ray::new(origin, dir), &mut sampler, &mut counts)
+                .r as f64,
+        );
+    }
+    println!("glass ball: {:.5} +- {:.5}", m.mean(), m.standard_error());
+    assert!(m.agrees_with(1.0, 3.0, 1e-3), "{} +- {}", m.mean(), m.standard_error());
+}

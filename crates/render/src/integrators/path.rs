@@ -114,15 +114,20 @@ impl Integrator for PathTracer {
                 previous = Some((sh.origin, pdf));
                 wi
             } else {
-                // The specular ray whose share of the albedo holds u_choice.
+                // The specular ray whose share of the albedo holds u_choice (rounding may
+                // leave u_choice at the very end: then the last ray with a share).
                 let mut rest = u_choice - lobe_albedo;
-                let r = specular
-                    .iter()
+                let mut chosen = specular.iter().filter(|r| r.weight.luminance() > 0.0);
+                let Some(r) = chosen
+                    .clone()
                     .find(|r| {
                         rest -= r.weight.luminance();
                         rest < 0.0
                     })
-                    .unwrap_or(&specular[specular.len() - 1]);
+                    .or_else(|| chosen.next_back())
+                else {
+                    break;
+                };
                 beta *= r.weight * (total / r.weight.luminance());
                 previous = None;
                 r.wi
