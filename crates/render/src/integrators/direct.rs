@@ -309,7 +309,7 @@ impl Direct {
             let (sel, h) = (o.selection, o.heuristic);
             nee::emitter_weight(
                 scene,
-                sel,
+                (sel, AreaSampling::SolidAngle),
                 h,
                 sh.origin,
                 (index, light),

@@ -102,11 +102,11 @@ pub(super) fn light_sample(
 
 /// The MIS weight of a BSDF sample from `p` (density `n_bsdf` x `p_bsdf`) that reached
 /// `point` (normal `normal`) on area light `index`, against the light strategy of
-/// `n_light` solid-angle samples per shading point with lights chosen by `selection`.
+/// `n_light` samples by `sampling` per shading point with lights chosen by `selection`.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn emitter_weight(
     scene: &Scene,
-    selection: LightSelection,
+    (selection, sampling): (LightSelection, AreaSampling),
     heuristic: MisHeuristic,
     p: Vec3,
     (index, light): (u32, &AreaLight),
@@ -116,6 +116,6 @@ pub(super) fn emitter_weight(
     n_light: f32,
 ) -> f32 {
     let p_pick = scene.lights.pmf(selection, index);
-    let p_light = light.pdf(p, point, normal, AreaSampling::SolidAngle);
+    let p_light = light.pdf(p, point, normal, sampling);
     heuristic.weight(n_bsdf * p_bsdf, n_light * p_pick * p_light)
 }

@@ -1,7 +1,7 @@
 //! Unidirectional path tracing of the rendering equation (Kajiya 1986), as pbrt-v4's
 //! `PathIntegrator` and Mitsuba 3's `path` do it: one random continuation per bounce drawn
 //! from the material, next-event estimation at every non-specular vertex (one shadow ray to
-//! a light picked by power, solid-angle sampled), emitters reached by the continuation rays
+//! a light picked by power, solid-angle sampled unless it is a small flat light), emitters reached by the continuation rays
 //! weighted against it by the power heuristic (Veach and Guibas 1995), and Russian roulette
 //! from `rr_depth` on with survival probability min(max throughput channel, 0.95).
 //!
@@ -27,7 +27,7 @@ impl Integrator for PathTracer {
         let selection = self.options.direct.selection;
         let heuristic = MisHeuristic::Power;
         let nee = LightStrategy {
-            sampling: AreaSampling::SolidAngle,
+            sampling: AreaSampling::Adaptive,
             samples: 1.0,
             mis: Some((heuristic, 1.0)),
         };
@@ -50,7 +50,7 @@ impl Integrator for PathTracer {
                         let hit = (index, light);
                         nee::emitter_weight(
                             scene,
-                            selection,
+                            (selection, nee.sampling),
                             heuristic,
                             p,
                             hit,

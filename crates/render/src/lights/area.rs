@@ -18,6 +18,9 @@ pub enum AreaSampling {
     Area,
     /// Uniformly by the solid angle the light subtends, where the shape allows it.
     SolidAngle,
+    /// By solid angle, except flat lights that look small from the shading point, by area
+    /// (the path tracer's choice: nearly as good there, and much cheaper).
+    Adaptive,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -39,9 +42,9 @@ impl AreaLight {
 
     /// Light arriving at `p` from a point chosen by `strategy` from `u`.
     pub fn sample_li(&self, p: Vec3, u: Vec2, strategy: AreaSampling) -> Option<LightSample> {
-        let s = match strategy {
+        let s = match self.resolve(p, strategy) {
             AreaSampling::Area => self.emitter.sample_uniform(p, u),
-            AreaSampling::SolidAngle => self.emitter.sample_solid_angle(p, u),
+            _ => self.emitter.sample_solid_angle(p, u),
         }?;
         self.to_light_sample(p, &s)
     }
@@ -65,9 +68,18 @@ impl AreaLight {
     /// The solid-angle density `strategy` gives the direction from `p` to `point` (a point
     /// of this light with normal `normal`).
     pub fn pdf(&self, p: Vec3, point: Vec3, normal: Vec3, strategy: AreaSampling) -> f32 {
-        match strategy {
+        match self.resolve(p, strategy) {
             AreaSampling::Area => self.emitter.area_pdf_to_solid_angle(p, point, normal).unwrap_or(0.0),
-            AreaSampling::SolidAngle => self.emitter.solid_angle_pdf(p, point, normal),
+            _ => self.emitter.solid_angle_pdf(p, point, normal),
+        }
+    }
+
+    /// What `strategy` means at `p`: `Adaptive` becomes area or solid angle.
+    fn resolve(&self, p: Vec3, strategy: AreaSampling) -> AreaSampling {
+        match strategy {
+            AreaSampling::Adaptive if self.emitter.looks_small(p) => AreaSampling::Area,
+            AreaSampling::Adaptive => AreaSampling::SolidAngle,
+            s => s,
         }
     }
 

@@ -23,8 +23,8 @@ pub enum EmitterShape {
     Sphere { center: Vec3, radius: f32 },
 }
 
-/// Below this (in steradians, estimated as area / distance²) a flat emitter is sampled by
-/// area even when solid-angle sampling is asked for; see `Emitter::looks_small`.
+/// Below this (in steradians, estimated as area / distance²) adaptive sampling takes a flat
+/// emitter by area; see [`Emitter::looks_small`].
 pub const SMALL_SOLID_ANGLE: f32 = 0.05;
 
 /// An emitting surface with what sampling needs of it worked out once, at scene setup.
@@ -142,9 +142,6 @@ impl Emitter {
     /// its (constant) density there; `None` means it falls back to area sampling: disks and
     /// sheared quads, a point inside a sphere, polygons too small or far to sample well.
     fn solid_angle_density(&self, p: Vec3) -> Option<f32> {
-        if self.looks_small(p) {
-            return None;
-        }
         let omega = match &self.shape {
             EmitterShape::Sphere { .. } => 2.0 * PI * (1.0 - self.cone_cos_max(p)?),
             EmitterShape::Triangle { v } => spherical::triangle_solid_angle(p, *v),
@@ -160,7 +157,7 @@ impl Emitter {
     /// below [`SMALL_SOLID_ANGLE`]) that spherical sampling, which costs inverse
     /// trigonometry in double precision, would barely beat area sampling: cos θ and 1/r²
     /// hardly vary over it. (Spheres keep their cheap cone sampling.)
-    fn looks_small(&self, p: Vec3) -> bool {
+    pub fn looks_small(&self, p: Vec3) -> bool {
         let centroid = match &self.shape {
             EmitterShape::Triangle { v } => (v[0] + v[1] + v[2]) / 3.0,
             EmitterShape::Quad { corner, e1, e2 } => *corner + 0.5 * (*e1 + *e2),
