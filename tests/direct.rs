@@ -13,7 +13,7 @@ use penumbra::renderer::integrators::{DirectOptions, IntegratorKind, IntegratorO
 use penumbra::renderer::lights::LightSelection;
 use penumbra::renderer::{RayCounts, Scene};
 use penumbra::scene::{build_scene, SourceFile};
-use penumbra_testkit::MeanEstimate;
+use penumbra_testkit::{assert_within_3se, MeanEstimate};
 
 const ALBEDO: f32 = 0.5;
 const RADIANCE: f32 = 2.0;
@@ -137,11 +137,7 @@ fn every_strategy_matches_the_closed_forms_within_3_standard_errors() {
             let (mean, se) = estimate(scene, o, n);
             println!("{what}, {name}: {mean:.5} +- {se:.5} (expected {expected:.5})");
             assert!(se > 0.0 && se < 0.05 * expected, "{what}, {name}: standard error {se}");
-            assert!(
-                (mean - expected).abs() <= 3.0 * se + 1e-5 * expected,
-                "{what}, {name}: {mean} is {:.1} standard errors from {expected}",
-                (mean - expected).abs() / se
-            );
+            assert_within_3se(&format!("{what}, {name}"), mean, se, *expected, 1e-5 * expected);
         }
     }
 }
@@ -289,10 +285,7 @@ fn quad_and_mesh_lights_match_lamberts_polygon_formula() {
         for (name, o) in strategies() {
             let (mean, se) = estimate(&scene, o, 20_000);
             assert!(se > 0.0 && se < 0.05 * expected, "{what}, {name}: standard error {se}");
-            assert!(
-                (mean - expected).abs() <= 3.0 * se + 1e-5 * expected,
-                "{what}, {name}: {mean} +- {se}, expected {expected}"
-            );
+            assert_within_3se(&format!("{what}, {name}"), mean, se, expected, 1e-5 * expected);
         }
     }
     // One-sided and facing away: no light at all.
@@ -392,11 +385,8 @@ fn many_lights_sum_up_for_every_light_selection() {
                 se > 0.0 && se < 0.05 * expected,
                 "{selection:?}, {sampling:?}: standard error {se}"
             );
-            assert!(
-                (mean - expected).abs() <= 3.0 * se + 1e-5 * expected,
-                "{selection:?}, {sampling:?}: {mean} is {:.1} standard errors from {expected}",
-                (mean - expected).abs() / se
-            );
+            let what = format!("{selection:?}, {sampling:?}");
+            assert_within_3se(&what, mean, se, expected, 1e-5 * expected);
         }
     }
 }

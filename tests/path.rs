@@ -10,7 +10,7 @@ use penumbra::math::{PixelSampler, Ray, SamplerKind, UVec2, Vec3};
 use penumbra::renderer::integrators::{IntegratorKind, IntegratorOptions};
 use penumbra::renderer::{RayCounts, Scene};
 use penumbra::scene::{build_scene, SourceFile};
-use penumbra_testkit::MeanEstimate;
+use penumbra_testkit::{assert_within_3se, MeanEstimate};
 
 fn furnace(albedo: f32) -> Scene {
     let text = format!(
@@ -56,17 +56,11 @@ fn furnace_sphere_gives_the_geometric_series_for_every_max_depth() {
             println!("albedo {albedo}, max depth {depth}: {mean:.5} +- {se:.5}, expected {expected:.5}");
             if depth <= 2 {
                 // Emission only, then emission + one reflection: NEE and MIS, no roulette.
-                assert!(
-                    (mean - expected).abs() <= 3.0 * se + 1e-4,
-                    "depth {depth}: {mean} vs {expected}"
-                );
+                assert_within_3se(&format!("depth {depth}"), mean, se, expected, 1e-4);
             } else {
                 assert!(se > 0.0 && se < 0.01 * expected, "depth {depth}: standard error {se}");
-                assert!(
-                    (mean - expected).abs() <= 3.0 * se + 1e-4 * expected,
-                    "albedo {albedo}, depth {depth}: {mean} is {:.1} standard errors from {expected}",
-                    (mean - expected).abs() / se
-                );
+                let what = format!("albedo {albedo}, depth {depth}");
+                assert_within_3se(&what, mean, se, expected, 1e-4 * expected);
             }
         }
     }
@@ -105,7 +99,7 @@ fn direct_strategies_inside_the_furnace_give_one_bounce() {
                 m.push(integrator.li(&scene, &Ray::new(o, d), &mut sampler, &mut counts).r as f64);
             }
             let (mean, se) = (m.mean(), m.standard_error());
-            assert!((mean - 1.5).abs() <= 3.0 * se + 1e-4, "{s:?} from {o}: {mean} +- {se}");
+            assert_within_3se(&format!("{s:?} from {o}"), mean, se, 1.5, 1e-4);
         }
     }
 }
@@ -176,5 +170,5 @@ fn a_glass_ball_vanishes_in_a_furnace() {
         );
     }
     println!("glass ball: {:.5} +- {:.5}", m.mean(), m.standard_error());
-    assert!(m.agrees_with(1.0, 3.0, 1e-3), "{} +- {}", m.mean(), m.standard_error());
+    assert_within_3se("glass ball", m.mean(), m.standard_error(), 1.0, 1e-3);
 }

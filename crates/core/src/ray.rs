@@ -25,17 +25,6 @@ impl Ray {
         let n = if n.dot(dir) < 0.0 { -n } else { n };
         Ray::new(offset_origin(p, n), dir)
     }
-
-    /// A shadow ray from the surface point `p` (normal `n`) towards the point `target`,
-    /// with the `t_max` that stops it just short of `target`. The ray aims from its offset
-    /// origin, so that it ends at `target` itself: aiming from `p` would shift the whole
-    /// segment by the offset and can reach a surface through `target` at a grazing angle
-    /// before `t_max` (area lights seen obliquely would then shadow themselves).
-    pub fn spawn_to(p: Vec3, n: Vec3, target: Vec3) -> (Self, f32) {
-        let n = if n.dot(target - p) < 0.0 { -n } else { n };
-        let origin = offset_origin(p, n);
-        (Ray::new(origin, target - origin), 1.0 - SHADOW_EPSILON)
-    }
 }
 
 /// Relative shortening of shadow rays so they do not hit the surface they aim at.

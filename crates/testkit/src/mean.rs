@@ -28,11 +28,17 @@ impl MeanEstimate {
         }
         (self.m2 / (self.n - 1) as f64 / self.n as f64).sqrt()
     }
+}
 
-    /// Whether the mean is within `k` standard errors (plus `slack`) of `expected`.
-    pub fn agrees_with(&self, expected: f64, k: f64, slack: f64) -> bool {
-        (self.mean - expected).abs() <= k * self.standard_error() + slack
-    }
+/// Panics, naming `what`, unless `mean` is within 3 standard errors `se` (plus `slack`) of
+/// `expected`. Three standard errors: a correct estimator fails about 0.3% of the time,
+/// once and for all for a fixed seed.
+pub fn assert_within_3se(what: &str, mean: f64, se: f64, expected: f64, slack: f64) {
+    assert!(
+        (mean - expected).abs() <= 3.0 * se + slack,
+        "{what}: {mean} +- {se} is {:.1} standard errors from {expected}",
+        (mean - expected).abs() / se
+    );
 }
 
 #[cfg(test)]
@@ -48,7 +54,13 @@ mod tests {
         // Sample variance 5/3, standard error sqrt(5/3 / 4).
         assert!((m.mean() - 2.5).abs() < 1e-12);
         assert!((m.standard_error() - (5.0f64 / 12.0).sqrt()).abs() < 1e-12);
-        assert!(m.agrees_with(2.0, 1.0, 0.0) && !m.agrees_with(1.0, 1.0, 0.0));
+        assert_within_3se("2.5 vs 2", m.mean(), m.standard_error(), 2.0, 0.0);
         assert_eq!(MeanEstimate::default().standard_error(), f64::INFINITY);
+    }
+
+    #[test]
+    #[should_panic(expected = "standard errors from")]
+    fn a_mean_far_from_the_expectation_fails() {
+        assert_within_3se("off", 2.5, 0.1, 2.0, 0.0);
     }
 }

@@ -211,7 +211,7 @@ impl Direct {
                     for j in 0..batch {
                         let u_pick = sampler.next_1d();
                         let u = self.point_sample(j, sampler);
-                        if let Some((index, p_pick, _)) = lights.pick_in_group(group, u_pick) {
+                        if let Some((index, p_pick)) = lights.pick_in_group(group, u_pick) {
                             sum += self.light_sample(scene, sh, index, p_pick, u, batch, counts);
                         }
                     }
@@ -221,7 +221,7 @@ impl Direct {
                 for j in 0..n {
                     let u_pick = sampler.next_1d();
                     let u = self.point_sample(j, sampler);
-                    if let Some((index, p_pick, _)) = lights.pick(selection, u_pick) {
+                    if let Some((index, p_pick)) = lights.pick(selection, u_pick) {
                         sum += self.light_sample(scene, sh, index, p_pick, u, n, counts);
                     }
                 }

@@ -11,7 +11,7 @@
 use super::nee::{self, LightStrategy, Shading};
 use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts};
 use crate::lights::AreaSampling;
-use crate::materials::SpecularRay;
+use crate::materials::{Material, SpecularRay};
 use crate::Scene;
 use penumbra_core::{PixelSampler, Ray, Rgb};
 
@@ -70,8 +70,8 @@ impl Integrator for PathTracer {
 
             // Choose the continuation: the diffuse + glossy lobes or one perfectly specular
             // ray, in proportion to their albedos (luminance).
-            let shading_probe = Shading::new(&it, 1.0);
-            let (m, s) = (shading_probe.m, &it.surface);
+            let Material::Phong(m) = it.material;
+            let s = &it.surface;
             // At most three specular rays (mirror, Fresnel reflection and refraction): kept
             // on the stack.
             let mut specular = [SpecularRay::default(); 3];
@@ -95,7 +95,7 @@ impl Integrator for PathTracer {
             if lobe_albedo > 0.0 {
                 let u_pick = sampler.next_1d();
                 let u = sampler.next_2d();
-                if let Some((index, p_pick, _)) = scene.lights.pick(selection, u_pick) {
+                if let Some((index, p_pick)) = scene.lights.pick(selection, u_pick) {
                     radiance += beta * nee::light_sample(scene, &sh, index, p_pick, u, &nee, counts);
                 }
             }

@@ -5,12 +5,11 @@
 //! accumulated weight falls below `min_weight`. Area lights shine as a point light at the
 //! centre of each (of each triangle, for a mesh), and are seen directly with their radiance.
 
-use super::{shadow_ray, specular_bounces, Integrator, IntegratorOptions, RayCounts};
+use super::nee::{self, LightStrategy, Shading};
+use super::{specular_bounces, Integrator, IntegratorOptions, RayCounts};
 use crate::lights::AreaSampling;
-use crate::materials::Material;
 use crate::Scene;
 use glam::Vec2;
-use penumbra_core::ray::offset_origin;
 use penumbra_core::{PixelSampler, Ray, Rgb};
 
 pub struct Whitted {
@@ -30,35 +29,20 @@ impl Whitted {
         let Some(it) = scene.intersect(ray, f32::INFINITY) else {
             return scene.background;
         };
-        let Material::Phong(m) = it.material;
-        let s = &it.surface;
-        let wo = it.wo;
-        // Local shading sees the side of the surface the ray arrived on.
-        let n = if s.ns.dot(wo) < 0.0 { -s.ns } else { s.ns };
-        let ng = if s.ng.dot(wo) < 0.0 { -s.ng } else { s.ng };
-
-        // Lights are seen from the point pushed off the surface on the viewer's side.
-        let origin = offset_origin(s.p, ng);
+        // Local shading sees the side of the surface the ray arrived on; lights are seen
+        // from the point pushed off it on that side.
+        let sh = Shading::new(&it, 1.0);
+        let (m, s, wo) = (sh.m, &it.surface, it.wo);
+        // One shadow ray per light; an area light shines from one point (its centre), as a
+        // point light of intensity L A cos θ_light: the sample divided by its density.
+        let centre = LightStrategy {
+            sampling: AreaSampling::SolidAngle,
+            samples: 1.0,
+            mis: None,
+        };
         let mut radiance = scene.emitted(&it) + scene.ambient * m.albedo(s.uv);
-        for light in scene.lights.lights() {
-            let Some(ls) = light.sample_li(origin, Vec2::splat(0.5), AreaSampling::SolidAngle) else {
-                continue;
-            };
-            let cos = n.dot(ls.wi);
-            if cos <= 0.0 || ng.dot(ls.wi) <= 0.0 || ls.li.is_black() {
-                continue;
-            }
-            let f = m.eval(s.uv, n, wo, ls.wi);
-            if f.is_black() {
-                continue;
-            }
-            counts.shadow += 1;
-            let (shadow, t_max) = shadow_ray(origin, &ls);
-            if !scene.occluded(&shadow, t_max) {
-                // An area light's sample is a point on it: divide by its density, as a
-                // point light of intensity L A cos θ_light.
-                radiance += f * ls.li * (cos / ls.pdf);
-            }
+        for index in 0..scene.lights.len() as u32 {
+            radiance += nee::light_sample(scene, &sh, index, 1.0, Vec2::splat(0.5), &centre, counts);
         }
 
         radiance

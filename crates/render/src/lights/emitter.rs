@@ -170,9 +170,13 @@ impl Emitter {
     /// subtends (for a sphere: over the cone of directions to its visible cap), or by area
     /// where the shape or view has no such method (see `solid_angle_density`).
     pub fn sample_solid_angle(&self, p: Vec3, u: Vec2) -> Option<EmitterSample> {
-        let sample = match (&self.shape, self.solid_angle_density(p)) {
-            (_, None) => None,
-            (EmitterShape::Sphere { center, radius }, Some(pdf)) => {
+        // Area sampling only where the density says so; a failed spherical sample is a lost
+        // sample, so that `solid_angle_pdf` stays the density of this routine.
+        let Some(pdf) = self.solid_angle_density(p) else {
+            return self.sample_uniform(p, u);
+        };
+        match &self.shape {
+            EmitterShape::Sphere { center, radius } => {
                 let to_center = *center - p;
                 let cos_max = self.cone_cos_max(p)?;
                 let w = Frame::from_normal(to_center.normalize()).to_world(warp::uniform_cone(u, cos_max));
@@ -189,7 +193,7 @@ impl Emitter {
                     pdf,
                 })
             }
-            (EmitterShape::Triangle { v }, Some(_)) => spherical::sample_triangle(p, *v, u).map(|(w, pdf)| {
+            EmitterShape::Triangle { v } => spherical::sample_triangle(p, *v, u).map(|(w, pdf)| {
                 let t = (v[0] - p).dot(self.normal) / w.dot(self.normal);
                 EmitterSample {
                     point: p + t * w,
@@ -197,19 +201,15 @@ impl Emitter {
                     pdf,
                 }
             }),
-            (EmitterShape::Quad { corner, e1, e2 }, Some(_)) => spherical::sample_rectangle(p, *corner, *e1, *e2, u)
-                .map(|(point, pdf)| EmitterSample {
+            EmitterShape::Quad { corner, e1, e2 } => {
+                spherical::sample_rectangle(p, *corner, *e1, *e2, u).map(|(point, pdf)| EmitterSample {
                     point,
                     normal: self.normal,
                     pdf,
-                }),
-            (EmitterShape::Disk { .. }, Some(_)) => None,
-        };
-        // Fall back to area sampling only where the density says so: a failed spherical
-        // sample is a lost sample, so that `solid_angle_pdf` stays the density of this routine.
-        match self.solid_angle_density(p) {
-            Some(_) => sample,
-            None => self.sample_uniform(p, u),
+                })
+            }
+            // Disks have no solid-angle density: handled above.
+            EmitterShape::Disk { .. } => None,
         }
     }
 

@@ -200,10 +200,8 @@ fn irradiance_is_unbiased_against_closed_forms() {
     for (k, (e, exact)) in cases.into_iter().enumerate() {
         for solid_angle in [false, true] {
             let (mean, se) = irradiance(&e, Vec3::ZERO, 200_000, 60 + k as u64, solid_angle);
-            assert!(
-                (mean - exact).abs() <= 3.0 * se + 1e-4 * exact,
-                "emitter {k}, solid angle {solid_angle}: {mean} ± {se} vs {exact}"
-            );
+            let what = format!("emitter {k}, solid angle {solid_angle}");
+            penumbra_testkit::assert_within_3se(&what, mean, se, exact, 1e-4 * exact);
             assert!(se < 0.01 * exact, "emitter {k}: standard error {se} of {exact}");
         }
     }

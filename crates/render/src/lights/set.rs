@@ -144,19 +144,19 @@ impl LightSet {
     }
 
     /// A light of object `group` by power within the object, and its probability.
-    pub fn pick_in_group(&self, group: usize, u: f32) -> Option<(u32, f32, f32)> {
+    pub fn pick_in_group(&self, group: usize, u: f32) -> Option<(u32, f32)> {
         let g = &self.groups[group];
-        let (i, pmf, rest) = g.within.as_ref()?.sample(u);
-        Some((g.lights.start + i as u32, pmf, rest))
+        let (i, pmf, _) = g.within.as_ref()?.sample(u);
+        Some((g.lights.start + i as u32, pmf))
     }
 
-    /// A light chosen by `selection`, its probability, and `u` rescaled. [`LightSelection::All`]
-    /// is meant for [`LightSet::pick_in_group`], object by object; here it picks by power.
-    pub fn pick(&self, selection: LightSelection, u: f32) -> Option<(u32, f32, f32)> {
+    /// A light chosen by `selection` and its probability. [`LightSelection::All`] is meant
+    /// for [`LightSet::pick_in_group`], object by object; here it picks by power.
+    pub fn pick(&self, selection: LightSelection, u: f32) -> Option<(u32, f32)> {
         match selection {
             LightSelection::Power | LightSelection::All => {
-                let (i, pmf, rest) = self.by_power.as_ref()?.sample(u);
-                Some((i as u32, pmf, rest))
+                let (i, pmf, _) = self.by_power.as_ref()?.sample(u);
+                Some((i as u32, pmf))
             }
             LightSelection::Uniform => {
                 let n = self.groups.len();
@@ -165,8 +165,8 @@ impl LightSet {
                 }
                 let g = ((u * n as f32) as usize).min(n - 1);
                 let rest = (u * n as f32 - g as f32).clamp(0.0, penumbra_core::samplers::ONE_MINUS_EPSILON);
-                let (i, pmf, rest) = self.pick_in_group(g, rest)?;
-                Some((i, pmf / n as f32, rest))
+                let (i, pmf) = self.pick_in_group(g, rest)?;
+                Some((i, pmf / n as f32))
             }
         }
     }
