@@ -7,7 +7,7 @@ mod rays;
 
 pub use rays::{coherent_rays, incoherent_rays, read_hits, read_rays, ExpectedHit, RaySet};
 
-use penumbra_geometry::{build_accel, Accel, AccelKind, PrimitiveSet, TraversalStats};
+use penumbra_geometry::{Accel, AccelKind, Geometry, TraversalStats};
 use rayon::prelude::*;
 use std::sync::Arc;
 use std::time::Instant;
@@ -52,19 +52,19 @@ fn best_and_median(mut xs: Vec<f64>, higher_is_better: bool) -> (f64, f64) {
 /// The brute-force list traces a sample of each set: at most this many ray-primitive tests.
 const LIST_TESTS: usize = 50_000_000;
 
-/// Benchmarks accelerator `kind` over `prims` with `sets` of rays, `repeats` times each.
-pub fn bench_accel<P: PrimitiveSet>(kind: AccelKind, prims: &Arc<P>, sets: &[RaySet], repeats: usize) -> AccelReport {
+/// Benchmarks accelerator `kind` over `geometry` with `sets` of rays, `repeats` times each.
+pub fn bench_accel(kind: AccelKind, geometry: &Arc<Geometry>, sets: &[RaySet], repeats: usize) -> AccelReport {
     let repeats = repeats.max(1);
     let mut builds = Vec::with_capacity(repeats);
-    let mut accel: Box<dyn Accel> = build_accel(kind, prims.clone());
+    let mut accel: Box<dyn Accel> = geometry.accel(kind);
     for _ in 0..repeats {
         let start = Instant::now();
-        accel = build_accel(kind, prims.clone());
+        accel = geometry.accel(kind);
         builds.push(start.elapsed().as_secs_f64());
     }
     let throughput = sets
         .iter()
-        .map(|set| measure(accel.as_ref(), kind, set, repeats, prims.len()))
+        .map(|set| measure(accel.as_ref(), kind, set, repeats, geometry.primitive_count()))
         .collect();
     AccelReport {
         kind,

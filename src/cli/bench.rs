@@ -3,8 +3,7 @@
 use super::Failure;
 use clap::{Args, Subcommand};
 use penumbra::bench::{bench_accel, coherent_rays, incoherent_rays, read_hits, read_rays, AccelReport, RaySet};
-use penumbra::geometry::instance::MeshTriangles;
-use penumbra::geometry::{build_accel, AccelKind, PrimitiveSet, TraversalStats};
+use penumbra::geometry::{AccelKind, Geometry, GeometryBuilder, TraversalStats};
 use penumbra::math::{Ray, Rgb};
 use penumbra::scene::image_io::{write_image, Image};
 use std::path::{Path, PathBuf};
@@ -96,10 +95,12 @@ pub fn run(command: BenchCommand) -> Result<(), Failure> {
                 eprintln!("warning: {warning}");
             }
             let triangles = mesh.indices.len();
-            let prims = Arc::new(MeshTriangles::new(Arc::new(mesh)));
-            let bounds = bounds_of(prims.as_ref());
+            let mut builder = GeometryBuilder::new();
+            builder.add_mesh(mesh);
+            let geometry = Arc::new(builder.build());
+            let bounds = geometry.finite_bounds();
             let camera = |side: u32| (side, side, coherent_rays(bounds, side));
-            race(&args, &kinds, &prims, triangles, &camera)
+            race(&args, &kinds, &geometry, triangles, &camera)
         }
         "toml" => {
             let desc = penumbra::scene::read_scene(&args.input).map_err(|e| Failure::BadInput(e.into()))?;
@@ -124,17 +125,9 @@ pub fn run(command: BenchCommand) -> Result<(), Failure> {
     })
 }
 
-/// Bounds of the bounded primitives (an infinite plane would make random rays NaN).
-fn bounds_of<P: PrimitiveSet>(prims: &P) -> penumbra::math::Aabb {
-    (0..prims.len() as u32)
-        .map(|i| prims.bounds(i))
-        .filter(|b| b.is_finite())
-        .fold(penumbra::math::Aabb::EMPTY, |b, p| b.union(p))
-}
-
-fn ray_sets<P: PrimitiveSet>(
+fn ray_sets(
     args: &AccelArgs,
-    prims: &P,
+    geometry: &Geometry,
     camera: &dyn Fn(u32) -> (u32, u32, Vec<Ray>),
 ) -> Result<Vec<RaySet>, Failure> {
     if args.rays.is_empty() {
@@ -146,7 +139,7 @@ fn ray_sets<P: PrimitiveSet>(
             },
             RaySet {
                 name: "incoherent".into(),
-                rays: incoherent_rays(bounds_of(prims), 1 << 18, 1),
+                rays: incoherent_rays(geometry.finite_bounds(), 1 << 18, 1),
                 expected: None,
             },
         ]);
@@ -178,18 +171,18 @@ fn ray_sets<P: PrimitiveSet>(
         .collect()
 }
 
-fn race<P: PrimitiveSet>(
+fn race(
     args: &AccelArgs,
     kinds: &[AccelKind],
-    prims: &Arc<P>,
+    geometry: &Arc<Geometry>,
     triangles: usize,
     camera: &dyn Fn(u32) -> (u32, u32, Vec<Ray>),
 ) -> Result<(), Failure> {
-    let sets = ray_sets(args, prims.as_ref(), camera)?;
+    let sets = ray_sets(args, geometry.as_ref(), camera)?;
     println!(
         "{}: {} primitives ({} triangles); {}; {} repeats",
         args.input.display(),
-        prims.len(),
+        geometry.primitive_count(),
         triangles,
         sets.iter()
             .map(|s| format!(
@@ -222,7 +215,7 @@ fn race<P: PrimitiveSet>(
     );
     let mut reports: Vec<AccelReport> = Vec::new();
     for &kind in kinds {
-        let r = bench_accel(kind, prims, &sets, args.repeats as usize);
+        let r = bench_accel(kind, geometry, &sets, args.repeats as usize);
         for (i, t) in r.throughput.iter().enumerate() {
             let build = if i == 0 {
                 format!("{:.3}/{:.3}", r.build.0, r.build.1)
@@ -266,17 +259,17 @@ fn race<P: PrimitiveSet>(
         reports.push(r);
     }
     if args.aov.is_some() {
-        write_cost_images(args, kinds, prims, camera)?;
+        write_cost_images(args, kinds, geometry, camera)?;
     }
     Ok(())
 }
 
 /// Heat maps of nodes visited plus primitives tested per camera ray, one per accelerator,
 /// on a common logarithmic scale so the images compare.
-fn write_cost_images<P: PrimitiveSet>(
+fn write_cost_images(
     args: &AccelArgs,
     kinds: &[AccelKind],
-    prims: &Arc<P>,
+    geometry: &Arc<Geometry>,
     camera: &dyn Fn(u32) -> (u32, u32, Vec<Ray>),
 ) -> Result<(), Failure> {
     std::fs::create_dir_all(&args.out_dir)
@@ -285,7 +278,7 @@ fn write_cost_images<P: PrimitiveSet>(
     let costs: Vec<(AccelKind, Vec<f32>)> = kinds
         .iter()
         .map(|&kind| {
-            let accel = build_accel(kind, prims.clone());
+            let accel = geometry.accel(kind);
             let c = rays
                 .iter()
                 .map(|r| {

@@ -1,19 +1,22 @@
-//! The scene's geometry: analytic shapes, world-space triangle meshes and mesh instances,
-//! as one primitive set for the top-level accelerator.
+//! The scene's geometry: analytic shapes, world-space triangle meshes and mesh instances.
+//!
+//! The triangles of all world-space meshes are pooled into one [`MeshTriangles`] set, so
+//! that an accelerator over them stores them in SIMD packets of four in leaf order; the
+//! shapes and instances form a second set (the [`PrimitiveSet`] of `Geometry` itself). A
+//! scene's accelerator ([`Geometry::accel`]) answers for both: one structure of the chosen
+//! kind over each, the closer hit winning.
 
-use crate::accel::{build_accel, Accel, AccelKind, PrimitiveSet};
-use crate::instance::triangle_surface;
-use crate::shapes::triangle::{intersect_triangle_prepared, TriangleRay};
-use crate::shapes::triangle_box::{triangle_clipped_bounds, triangle_overlaps_box};
+use crate::accel::{build_accel, Accel, AccelKind, PrimitiveSet, TraversalStats};
+use crate::instance::{triangle_surface, MeshTriangles};
+use crate::shapes::triangle::TriangleRay;
 use crate::{Hit, Instance, Shape, SurfaceHit, TriangleMesh};
 use penumbra_core::{Aabb, Ray};
 use std::sync::Arc;
 
-/// One primitive of the top level.
+/// One shape or instance.
 #[derive(Clone, Copy, Debug)]
 enum Prim {
     Shape(u32),
-    Triangle { mesh: u32, tri: u32 },
     Instance(u32),
 }
 
@@ -24,6 +27,10 @@ pub struct Geometry {
     meshes: Vec<(TriangleMesh, u32)>,
     instances: Vec<(Instance, u32)>,
     prims: Vec<Prim>,
+    /// The positions and triangles of every mesh in `meshes`, one after the other.
+    pooled: Arc<TriangleMesh>,
+    /// The first pooled triangle of each mesh.
+    pooled_starts: Vec<u32>,
 }
 
 /// Collects shapes, meshes and instances, numbering them as scene objects in order.
@@ -55,11 +62,7 @@ impl GeometryBuilder {
     /// Adds a world-space mesh whose triangles become top-level primitives.
     pub fn add_mesh(&mut self, mesh: TriangleMesh) -> u32 {
         let object = self.next_object();
-        let g = &mut self.geometry;
-        let m = g.meshes.len() as u32;
-        g.prims
-            .extend((0..mesh.indices.len() as u32).map(|tri| Prim::Triangle { mesh: m, tri }));
-        g.meshes.push((mesh, object));
+        self.geometry.meshes.push((mesh, object));
         object
     }
 
@@ -73,14 +76,51 @@ impl GeometryBuilder {
     }
 
     pub fn build(self) -> Geometry {
-        self.geometry
+        let mut g = self.geometry;
+        let mut pooled = TriangleMesh::default();
+        for (mesh, _) in &g.meshes {
+            g.pooled_starts.push(pooled.indices.len() as u32);
+            let base = pooled.positions.len() as u32;
+            pooled.positions.extend_from_slice(&mesh.positions);
+            pooled.indices.extend(mesh.indices.iter().map(|t| t.map(|i| i + base)));
+        }
+        g.pooled = Arc::new(pooled);
+        g
     }
 }
 
 impl Geometry {
-    /// The accelerator `kind` over this geometry.
+    /// The accelerator `kind` over this geometry. Hits on pooled triangles carry
+    /// `prim = shapes and instances + pooled triangle`.
     pub fn accel(self: &Arc<Self>, kind: AccelKind) -> Box<dyn Accel> {
-        build_accel(kind, self.clone())
+        let triangles = (!self.pooled.indices.is_empty())
+            .then(|| build_accel(kind, Arc::new(MeshTriangles::new(self.pooled.clone()))));
+        let objects = (!self.prims.is_empty() || triangles.is_none()).then(|| build_accel(kind, self.clone()));
+        match (triangles, objects) {
+            (Some(triangles), objects) => Box::new(Split {
+                triangles,
+                objects,
+                first_triangle: self.prims.len() as u32,
+            }),
+            (None, Some(objects)) => objects,
+            (None, None) => unreachable!("an accelerator is built for the objects when there are no triangles"),
+        }
+    }
+
+    /// Shapes, instances and world-space triangles.
+    pub fn primitive_count(&self) -> usize {
+        self.prims.len() + self.pooled.indices.len()
+    }
+
+    /// Bounds of the finite part of the scene (infinite planes left out).
+    pub fn finite_bounds(&self) -> Aabb {
+        let objects = (0..self.prims.len() as u32).map(|i| self.bounds(i));
+        objects
+            .chain(std::iter::once(Aabb::from_points(
+                self.pooled.positions.iter().copied(),
+            )))
+            .filter(|b| b.is_finite())
+            .fold(Aabb::EMPTY, |a, b| a.union(b))
     }
 
     /// Number of triangles, counting each instance's.
@@ -92,7 +132,22 @@ impl Geometry {
 
     /// The full surface description at `hit`, which `ray` produced.
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfaceHit {
-        match self.prims[hit.prim as usize] {
+        let Some(&prim) = self.prims.get(hit.prim as usize) else {
+            let pooled = hit.prim - self.prims.len() as u32;
+            let mesh = self.pooled_starts.partition_point(|&start| start <= pooled) - 1;
+            let tri = pooled - self.pooled_starts[mesh];
+            let (mesh, object) = &self.meshes[mesh];
+            let (p, ng, ns, uv) = triangle_surface(mesh, tri, hit.uv);
+            return SurfaceHit {
+                p,
+                ng,
+                ns,
+                uv,
+                object: *object,
+                triangle: tri,
+            };
+        };
+        match prim {
             Prim::Shape(s) => {
                 let (shape, object) = &self.shapes[s as usize];
                 let surf = shape.surface(ray, (hit.t, hit.uv));
@@ -103,18 +158,6 @@ impl Geometry {
                     uv: surf.uv,
                     object: *object,
                     triangle: 0,
-                }
-            }
-            Prim::Triangle { mesh, tri } => {
-                let (mesh, object) = &self.meshes[mesh as usize];
-                let (p, ng, ns, uv) = triangle_surface(mesh, tri, hit.uv);
-                SurfaceHit {
-                    p,
-                    ng,
-                    ns,
-                    uv,
-                    object: *object,
-                    triangle: tri,
                 }
             }
             Prim::Instance(i) => {
@@ -133,6 +176,7 @@ impl Geometry {
     }
 }
 
+/// The shapes and instances (the pooled triangles have their own set).
 impl PrimitiveSet for Geometry {
     type RayData = TriangleRay;
     #[inline]
@@ -147,23 +191,18 @@ impl PrimitiveSet for Geometry {
     fn bounds(&self, i: u32) -> Aabb {
         match self.prims[i as usize] {
             Prim::Shape(s) => self.shapes[s as usize].0.bounds(),
-            Prim::Triangle { mesh, tri } => self.meshes[mesh as usize].0.triangle_bounds(tri as usize),
             Prim::Instance(k) => self.instances[k as usize].0.bounds(),
         }
     }
 
     #[inline]
-    fn intersect(&self, i: u32, ray: &Ray, data: &TriangleRay, t_max: f32) -> Option<Hit> {
+    fn intersect(&self, i: u32, ray: &Ray, _data: &TriangleRay, t_max: f32) -> Option<Hit> {
         match self.prims[i as usize] {
             Prim::Shape(s) => {
                 self.shapes[s as usize]
                     .0
                     .intersect(ray, t_max)
                     .map(|(t, uv)| Hit { t, prim: i, sub: 0, uv })
-            }
-            Prim::Triangle { mesh, tri } => {
-                let p = self.meshes[mesh as usize].0.vertices(tri as usize);
-                intersect_triangle_prepared(data, p, t_max).map(|(t, uv)| Hit { t, prim: i, sub: 0, uv })
             }
             Prim::Instance(k) => self.instances[k as usize].0.intersect(ray, t_max).map(|h| Hit {
                 t: h.t,
@@ -174,39 +213,13 @@ impl PrimitiveSet for Geometry {
         }
     }
 
-    fn overlaps(&self, i: u32, b: &Aabb) -> bool {
-        match self.prims[i as usize] {
-            Prim::Triangle { mesh, tri } => {
-                triangle_overlaps_box(self.meshes[mesh as usize].0.vertices(tri as usize), b)
-            }
-            _ => self.bounds(i).overlaps(b),
-        }
-    }
-
-    /// The primitive table, the analytic shapes, and the meshes' positions and indices
-    /// (what intersection reads; shading data and instanced meshes are not counted).
+    /// The primitive table, the analytic shapes and the instances (instanced meshes are
+    /// not counted).
     fn memory_bytes(&self) -> usize {
         use std::mem::size_of;
-        let meshes: usize = self
-            .meshes
-            .iter()
-            .map(|(m, _)| {
-                m.positions.capacity() * size_of::<glam::Vec3>() + m.indices.capacity() * size_of::<[u32; 3]>()
-            })
-            .sum();
         self.prims.capacity() * size_of::<Prim>()
             + self.shapes.capacity() * size_of::<(Shape, u32)>()
             + self.instances.capacity() * size_of::<(Instance, u32)>()
-            + meshes
-    }
-
-    fn clip_bounds(&self, i: u32, b: &Aabb) -> Aabb {
-        match self.prims[i as usize] {
-            Prim::Triangle { mesh, tri } => {
-                triangle_clipped_bounds(self.meshes[mesh as usize].0.vertices(tri as usize), b)
-            }
-            _ => self.bounds(i).intersection(*b),
-        }
     }
 
     fn occluded(&self, i: u32, ray: &Ray, data: &TriangleRay, t_max: f32) -> bool {
@@ -214,6 +227,61 @@ impl PrimitiveSet for Geometry {
             Prim::Instance(k) => self.instances[k as usize].0.occluded(ray, t_max),
             _ => self.intersect(i, ray, data, t_max).is_some(),
         }
+    }
+}
+
+/// The scene's accelerator: one structure over the pooled triangles, one over the shapes
+/// and instances.
+struct Split {
+    triangles: Box<dyn Accel>,
+    /// `None` when the scene has no shapes or instances.
+    objects: Option<Box<dyn Accel>>,
+    /// What pooled triangle numbers are offset by in hits.
+    first_triangle: u32,
+}
+
+impl Split {
+    #[inline]
+    fn renumber(&self, hit: Hit) -> Hit {
+        Hit {
+            prim: hit.prim + self.first_triangle,
+            ..hit
+        }
+    }
+}
+
+impl Accel for Split {
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let near = self.triangles.intersect(ray, t_max).map(|h| self.renumber(h));
+        match &self.objects {
+            Some(objects) => objects.intersect(ray, near.map_or(t_max, |h| h.t)).or(near),
+            None => near,
+        }
+    }
+    fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.triangles.occluded(ray, t_max) || self.objects.as_ref().is_some_and(|o| o.occluded(ray, t_max))
+    }
+    fn bounds(&self) -> Aabb {
+        let objects = self.objects.as_ref().map_or(Aabb::EMPTY, |o| o.bounds());
+        self.triangles.bounds().union(objects)
+    }
+    fn intersect_counted(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit> {
+        let near = self
+            .triangles
+            .intersect_counted(ray, t_max, stats)
+            .map(|h| self.renumber(h));
+        match &self.objects {
+            Some(objects) => objects
+                .intersect_counted(ray, near.map_or(t_max, |h| h.t), stats)
+                .or(near),
+            None => near,
+        }
+    }
+    fn memory_bytes(&self) -> usize {
+        self.triangles.memory_bytes() + self.objects.as_ref().map_or(0, |o| o.memory_bytes())
+    }
+    fn primitive_bytes(&self) -> usize {
+        self.triangles.primitive_bytes() + self.objects.as_ref().map_or(0, |o| o.primitive_bytes())
     }
 }
 

@@ -17,7 +17,7 @@
 //! are kept.
 
 use crate::film::Pixel;
-use crate::filter::FilterSampler;
+use crate::filter::{FilterSampler, FilterTable};
 use crate::{Film, Integrator, RayCounts, Scene};
 use glam::{UVec2, Vec2};
 use penumbra_core::{PixelSampler, SamplerKind};
@@ -154,6 +154,9 @@ fn render_tile(
     let splat = radius > 0.5;
     let margin = if splat { (radius - 0.5).ceil() as u32 } else { 0 };
     let stride = tile.size.x + 2 * margin;
+    let table = splat.then(|| FilterTable::new(&scene.filter));
+    // The filter's weights for the columns a sample reaches, worked out once per sample.
+    let mut column_weights = Vec::with_capacity(2 * margin as usize + 2);
     let mut pixels = vec![Pixel::default(); (stride * (tile.size.y + 2 * margin)) as usize];
     let mut rays = RayCounts::default();
     let mut rejected = 0;
@@ -178,19 +181,22 @@ fn render_tile(
                     rejected += 1;
                     continue;
                 }
-                if !splat {
+                let Some(table) = &table else {
                     pixels[own].add(l, weight);
                     continue;
-                }
+                };
                 // Every pixel whose centre is within the radius of the sample, in the
                 // tile's buffer coordinates (the tile's first pixel at (margin, margin)).
                 let local = film_pos - tile.origin.as_vec2() + Vec2::splat(margin as f32);
                 let lo = (local - Vec2::splat(radius + 0.5)).ceil().max(Vec2::ZERO);
                 let hi = (local + Vec2::splat(radius - 0.5)).floor();
+                let columns = lo.x as u32..=(hi.x as u32).min(stride - 1);
+                column_weights.clear();
+                column_weights.extend(columns.clone().map(|px| table.eval(px as f32 + 0.5 - local.x)));
                 for py in lo.y as u32..=(hi.y as u32).min(tile.size.y + 2 * margin - 1) {
-                    let wy = scene.filter.eval_1d(py as f32 + 0.5 - local.y);
-                    for px in lo.x as u32..=(hi.x as u32).min(stride - 1) {
-                        let w = wy * scene.filter.eval_1d(px as f32 + 0.5 - local.x);
+                    let wy = table.eval(py as f32 + 0.5 - local.y);
+                    for (px, &wx) in columns.clone().zip(&column_weights) {
+                        let w = wy * wx;
                         if w != 0.0 {
                             pixels[(py * stride + px) as usize].add(l, w);
                         }

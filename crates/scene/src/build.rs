@@ -5,9 +5,9 @@
 use crate::desc::{CameraKind, LightDesc, SceneDesc, ShapeKind};
 use crate::emitters::area_lights;
 use crate::{Location, SceneError};
-use penumbra_core::{Aabb, Transform};
+use penumbra_core::Transform;
 use penumbra_geometry::shapes::{Cuboid, Disk, Plane, Quad, Sphere};
-use penumbra_geometry::{GeometryBuilder, Instance, MeshAccel, PrimitiveSet, Shape};
+use penumbra_geometry::{GeometryBuilder, Instance, MeshAccel, Shape};
 use penumbra_render::cameras::{Orthographic, Perspective};
 use penumbra_render::lights::{Directional, LightSetBuilder, Point, Spot};
 use penumbra_render::materials::Phong;
@@ -85,10 +85,7 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
     let geometry = Arc::new(builder.build());
     let accel = geometry.accel(desc.render.accel);
     // The finite part of the scene's extent sizes the power of directional lights.
-    let extent = (0..geometry.len() as u32)
-        .map(|i| geometry.bounds(i))
-        .filter(|b| b.is_finite())
-        .fold(Aabb::EMPTY, |a, b| a.union(b));
+    let extent = geometry.finite_bounds();
     let scene_radius = if extent.is_finite() && !extent.is_empty() {
         0.5 * extent.extent().length()
     } else {

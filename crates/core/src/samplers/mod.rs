@@ -76,10 +76,11 @@ impl Key {
 pub struct PixelSampler {
     kind: SamplerKind,
     seed: u64,
-    pixel: UVec2,
     spp: u32,
     index: u32,
     dimension: u32,
+    /// Hash of the seed and pixel, the start of the pixel's sequence of dimension hashes.
+    pixel_hash: u64,
 }
 
 impl PixelSampler {
@@ -87,24 +88,29 @@ impl PixelSampler {
         PixelSampler {
             kind,
             seed,
-            pixel: UVec2::ZERO,
             spp: spp.max(1),
             index: 0,
             dimension: 0,
+            pixel_hash: 0,
         }
     }
 
     /// Starts sample `index` of `pixel`; dimensions restart from zero.
     pub fn start(&mut self, pixel: UVec2, index: u32) {
-        self.pixel = pixel;
         self.index = index;
         self.dimension = 0;
+        self.pixel_hash = hash_words(&[self.seed, pixel.x as u64, pixel.y as u64]);
     }
 
     fn next_key(&mut self) -> Key {
         let d = self.dimension;
         self.dimension += 1;
-        let pattern = hash_words(&[self.seed, self.pixel.x as u64, self.pixel.y as u64, d as u64]);
+        // SplitMix64's sequence seeded with the pixel's hash (Steele et al. 2014): one
+        // mix per dimension.
+        let pattern = crate::hash::mix64(
+            self.pixel_hash
+                .wrapping_add((d as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15)),
+        );
         Key {
             pattern,
             index: self.index,

@@ -25,7 +25,7 @@ pub enum EmitterShape {
 
 /// Below this (in steradians, estimated as area / distance²) adaptive sampling takes a flat
 /// emitter by area; see [`Emitter::looks_small`].
-pub const SMALL_SOLID_ANGLE: f32 = 0.05;
+pub const SMALL_SOLID_ANGLE: f32 = 0.3;
 
 /// An emitting surface with what sampling needs of it worked out once, at scene setup.
 #[derive(Clone, Debug, PartialEq)]
