@@ -13,7 +13,7 @@ use penumbra::renderer::integrators::{DirectOptions, IntegratorKind, IntegratorO
 use penumbra::renderer::lights::LightSelection;
 use penumbra::renderer::{RayCounts, Scene};
 use penumbra::scene::{build_scene, SourceFile};
-use penumbra_testkit::{assert_within_3se, MeanEstimate};
+use penumbra_testkit::{assert_within_3se, assert_within_se, MeanEstimate};
 
 const ALBEDO: f32 = 0.5;
 const RADIANCE: f32 = 2.0;
@@ -285,7 +285,8 @@ fn quad_and_mesh_lights_match_lamberts_polygon_formula() {
         for (name, o) in strategies() {
             let (mean, se) = estimate(&scene, o, 20_000);
             assert!(se > 0.0 && se < 0.05 * expected, "{what}, {name}: standard error {se}");
-            assert_within_3se(&format!("{what}, {name}"), mean, se, expected, 1e-5 * expected);
+            // 5 lights x 7 strategies: 4 standard errors each (see `assert_within_se`).
+            assert_within_se(&format!("{what}, {name}"), mean, se, expected, 1e-5 * expected, 4.0);
         }
     }
     // One-sided and facing away: no light at all.

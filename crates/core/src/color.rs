@@ -27,6 +27,11 @@ impl Rgb {
     }
 
     /// Luminance Y of linear Rec.709 RGB.
+    /// The mean of the three channels.
+    pub fn mean(self) -> f32 {
+        (self.r + self.g + self.b) / 3.0
+    }
+
     pub fn luminance(self) -> f32 {
         0.2126 * self.r + 0.7152 * self.g + 0.0722 * self.b
     }

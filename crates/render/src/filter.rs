@@ -80,12 +80,9 @@ impl FilterTable {
     #[inline]
     pub fn eval(&self, x: f32) -> f32 {
         let t = x.abs() * self.scale;
-        if !(t < (SPLAT_TABLE - 1) as f32) {
-            return if t == (SPLAT_TABLE - 1) as f32 {
-                self.values[SPLAT_TABLE - 1]
-            } else {
-                0.0
-            };
+        let last = (SPLAT_TABLE - 1) as f32;
+        if t >= last || t.is_nan() {
+            return if t == last { self.values[SPLAT_TABLE - 1] } else { 0.0 };
         }
         let i = t as usize;
         let f = t - i as f32;

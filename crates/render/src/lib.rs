@@ -1,6 +1,7 @@
 //! Penumbra rendering: materials, lights, cameras, film, integrators and the driver that
 //! renders a [`Scene`] tile by tile in parallel.
 
+pub mod bsdfs;
 pub mod cameras;
 pub mod driver;
 pub mod film;

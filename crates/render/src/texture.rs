@@ -28,6 +28,14 @@ impl Texture {
         }
     }
 
+    /// The smallest value the texture takes, per channel.
+    pub fn min_value(&self) -> Rgb {
+        match *self {
+            Texture::Constant(c) => c,
+            Texture::Checker { even, odd, .. } => Rgb::new(even.r.min(odd.r), even.g.min(odd.g), even.b.min(odd.b)),
+        }
+    }
+
     /// The largest value the texture takes, per channel.
     pub fn max_value(&self) -> Rgb {
         match *self {

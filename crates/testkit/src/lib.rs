@@ -16,7 +16,7 @@
 mod mean;
 mod quadrature;
 
-pub use mean::{assert_within_3se, MeanEstimate};
+pub use mean::{assert_within_3se, assert_within_se, MeanEstimate};
 
 use glam::{Vec2, Vec3};
 use std::f64::consts::PI;

@@ -20,6 +20,7 @@
 
 use super::nee::{self, LightStrategy, Shading};
 use super::{specular_bounces, Integrator, IntegratorOptions, RayCounts};
+use crate::bsdfs::TransportMode;
 use crate::lights::{AreaSampling, LightSelection};
 use crate::Scene;
 use glam::Vec2;
@@ -159,23 +160,15 @@ impl Direct {
         let Some(it) = scene.intersect(ray, f32::INFINITY) else {
             return scene.background;
         };
-        let sh = Shading::new(&it, 1.0);
-        let (m, s) = (sh.m, &it.surface);
-        let mut radiance = scene.emitted(&it) + scene.ambient * m.albedo(s.uv);
-        if m.has_lobes(s.uv) {
+        let sh = Shading::new(&it);
+        let mut radiance = scene.emitted(&it) + scene.ambient * sh.bsdf.albedo();
+        if sh.bsdf.has_smooth() {
             radiance += self.direct(scene, &sh, sampler, counts);
         }
         radiance
-            + specular_bounces(
-                &self.options,
-                m,
-                s,
-                it.wo,
-                depth,
-                beta,
-                counts,
-                |next, weight, counts| self.trace(scene, next, depth + 1, weight, sampler, counts),
-            )
+            + specular_bounces(&self.options, &sh, depth, beta, counts, |next, weight, counts| {
+                self.trace(scene, next, depth + 1, weight, sampler, counts)
+            })
     }
 
     /// The estimate of reflected direct light at `sh`.
@@ -283,17 +276,23 @@ impl Direct {
         counts: &mut RayCounts,
     ) -> Rgb {
         let o = &self.options.direct;
-        let s = &sh.it.surface;
         let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
-        let Some(wi) = sh.m.sample(s.uv, sh.n, sh.it.wo, u_lobe, u) else {
+        // Delta lobes are followed by the specular rays instead.
+        let Some(bs) = sh
+            .bsdf
+            .sample(sh.wo, u_lobe, u, TransportMode::Radiance)
+            .filter(|s| !s.delta)
+        else {
             return Rgb::BLACK;
         };
-        let p_bsdf = sh.bsdf_pdf(wi);
-        if p_bsdf <= 0.0 || sh.ng.dot(wi) <= 0.0 {
+        let wi = sh.frame.to_world(bs.wi);
+        if sh.local(wi).is_none() {
             return Rgb::BLACK;
         }
+        let p_bsdf = bs.pdf;
         counts.secondary += 1;
-        let Some(hit) = scene.intersect(&Ray::new(sh.origin, wi), f32::INFINITY) else {
+        let origin = sh.origin_towards(wi);
+        let Some(hit) = scene.intersect(&Ray::new(origin, wi), f32::INFINITY) else {
             return Rgb::BLACK;
         };
         let Some((index, light)) = scene.emitter_at(&hit) else {
@@ -311,7 +310,7 @@ impl Direct {
                 scene,
                 (sel, AreaSampling::SolidAngle),
                 h,
-                sh.origin,
+                origin,
                 (index, light),
                 hit.surface.p,
                 normal,
@@ -321,7 +320,6 @@ impl Direct {
         } else {
             1.0
         };
-        let f = sh.eval(wi);
-        f * le * (sh.n.dot(wi) * weight / (p_bsdf * n))
+        bs.weight * le * (weight / n)
     }
 }

@@ -12,12 +12,12 @@ pub use direct::{Direct, DirectOptions, LightSampling, MisHeuristic};
 pub use path::{PathTracer, RR_DEPTH};
 pub use whitted::Whitted;
 
+use crate::bsdfs::TransportMode;
 use crate::lights::LightSample;
-use crate::materials::Phong;
 use crate::Scene;
 use glam::Vec3;
+use nee::Shading;
 use penumbra_core::{PixelSampler, Ray, Rgb};
-use penumbra_geometry::SurfaceHit;
 
 /// Rays traced, by kind.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -113,15 +113,12 @@ pub(crate) fn shadow_ray(origin: Vec3, ls: &LightSample) -> (Ray, f32) {
     }
 }
 
-/// The radiance the perfectly specular rays of `m` at `s` bring back towards `wo` (mirror
+/// The radiance the perfectly specular rays at `sh` bring back towards the viewer (mirror
 /// reflection, Fresnel-weighted reflection and refraction), each traced by `trace(ray,
 /// accumulated weight, counts)`; nothing beyond `max_depth` bounces or below `min_weight`.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn specular_bounces(
+fn specular_bounces(
     options: &IntegratorOptions,
-    m: &Phong,
-    s: &SurfaceHit,
-    wo: Vec3,
+    sh: &Shading,
     depth: u32,
     beta: Rgb,
     counts: &mut RayCounts,
@@ -131,13 +128,15 @@ pub(crate) fn specular_bounces(
     if depth >= options.max_depth {
         return radiance;
     }
-    for r in m.specular_rays(s.ns, wo) {
+    let s = &sh.it.surface;
+    for r in sh.bsdf.specular_rays(sh.wo, TransportMode::Radiance).as_slice() {
         let weight = beta * r.weight;
         if weight.max_component() < options.min_weight {
             continue;
         }
         counts.secondary += 1;
-        radiance += r.weight * trace(&Ray::spawn(s.p, s.ng, r.wi), weight, counts);
+        let wi = sh.frame.to_world(r.wi);
+        radiance += r.weight * trace(&Ray::spawn(s.p, s.ng, wi), weight, counts);
     }
     radiance
 }

@@ -3,22 +3,23 @@
 //! that combine it with BSDF sampling.
 
 use super::{shadow_ray, MisHeuristic, RayCounts};
+use crate::bsdfs::{Bsdf, TransportMode};
 use crate::lights::{AreaLight, AreaSampling, LightSelection};
-use crate::materials::{Material, Phong};
 use crate::{Interaction, Scene};
 use glam::{Vec2, Vec3};
 use penumbra_core::ray::offset_origin;
-use penumbra_core::Rgb;
+use penumbra_core::{Frame, Rgb};
 
-/// A shading point: the surface, its material, and normals on the side of `wo`.
+/// A shading point: the surface, its BSDF in the shading frame, and where rays leave from.
 pub(super) struct Shading<'a> {
     pub it: &'a Interaction<'a>,
-    pub m: &'a Phong,
-    pub n: Vec3,
+    pub bsdf: Bsdf<'a>,
+    /// The shading frame (z = the shading normal, unflipped).
+    pub frame: Frame,
+    /// The direction towards the viewer in the shading frame.
+    pub wo: Vec3,
+    /// The geometric normal on the side of `wo`.
     pub ng: Vec3,
-    /// Probability that the integrator's BSDF sampling takes the diffuse + glossy part (the
-    /// rest goes to the perfectly specular rays): it scales the BSDF density in MIS weights.
-    pub lobe_probability: f32,
     /// Where lights are seen from: the surface point pushed off the surface on the side of
     /// `wo`, the origin of every shadow and reflected ray. Sampling lights from the raw hit
     /// point would let a point on an emitter (its back, say) land on the emitting side by
@@ -27,28 +28,51 @@ pub(super) struct Shading<'a> {
 }
 
 impl<'a> Shading<'a> {
-    pub fn new(it: &'a Interaction<'a>, lobe_probability: f32) -> Self {
-        let Material::Phong(m) = it.material;
-        let side = |v: Vec3| if v.dot(it.wo) < 0.0 { -v } else { v };
-        let ng = side(it.surface.ng);
+    pub fn new(it: &'a Interaction<'a>) -> Self {
+        let frame = Frame::from_normal(it.surface.ns);
+        let ng = if it.surface.ng.dot(it.wo) < 0.0 {
+            -it.surface.ng
+        } else {
+            it.surface.ng
+        };
         Shading {
             it,
-            m,
-            n: side(it.surface.ns),
+            bsdf: it.material.bsdf(it.surface.uv),
+            frame,
+            wo: frame.to_local(it.wo),
             ng,
-            lobe_probability,
             origin: offset_origin(it.surface.p, ng),
         }
     }
 
-    /// f(wo, wi) of the diffuse + glossy part.
-    pub fn eval(&self, wi: Vec3) -> Rgb {
-        self.m.eval(self.it.surface.uv, self.n, self.it.wo, wi)
+    /// `wi` in the shading frame, when the geometric and the shading normal agree on whether
+    /// it is reflected or transmitted (else light would leak through the surface).
+    pub fn local(&self, wi: Vec3) -> Option<Vec3> {
+        let l = self.frame.to_local(wi);
+        let reflected = self.ng.dot(wi) > 0.0;
+        (l.z != 0.0 && reflected == (l.z * self.wo.z > 0.0)).then_some(l)
     }
 
-    /// Solid-angle density with which the integrator's BSDF sampling produces `wi`.
+    /// f(wo, wi) |cos θi| of the non-delta part.
+    pub fn eval_cos(&self, wi: Vec3) -> Rgb {
+        self.local(wi).map_or(Rgb::BLACK, |l| {
+            self.bsdf.eval(self.wo, l, TransportMode::Radiance) * l.z.abs()
+        })
+    }
+
+    /// Solid-angle density with which BSDF sampling produces the non-delta `wi`.
     pub fn bsdf_pdf(&self, wi: Vec3) -> f32 {
-        self.lobe_probability * self.m.pdf(self.it.surface.uv, self.n, self.it.wo, wi)
+        self.local(wi)
+            .map_or(0.0, |l| self.bsdf.pdf(self.wo, l, TransportMode::Radiance))
+    }
+
+    /// Where a ray in direction `wi` leaves from: the point pushed off the surface on `wi`'s side.
+    pub fn origin_towards(&self, wi: Vec3) -> Vec3 {
+        if self.ng.dot(wi) >= 0.0 {
+            self.origin
+        } else {
+            offset_origin(self.it.surface.p, -self.ng)
+        }
     }
 }
 
@@ -77,17 +101,15 @@ pub(super) fn light_sample(
     let Some(ls) = light.sample_li(sh.origin, u, strategy.sampling) else {
         return Rgb::BLACK;
     };
-    let cos = sh.n.dot(ls.wi);
-    // (Written to reject NaN directions too.)
-    if !(cos > 0.0 && sh.ng.dot(ls.wi) > 0.0) || ls.li.is_black() {
+    if ls.li.is_black() || !ls.wi.is_finite() {
         return Rgb::BLACK;
     }
-    let f = sh.eval(ls.wi);
-    if f.is_black() {
+    let f_cos = sh.eval_cos(ls.wi);
+    if f_cos.is_black() {
         return Rgb::BLACK;
     }
     counts.shadow += 1;
-    let (shadow, t_max) = shadow_ray(sh.origin, &ls);
+    let (shadow, t_max) = shadow_ray(sh.origin_towards(ls.wi), &ls);
     if scene.occluded(&shadow, t_max) {
         return Rgb::BLACK;
     }
@@ -97,7 +119,7 @@ pub(super) fn light_sample(
         }
         _ => 1.0,
     };
-    f * ls.li * (cos * weight / (p_pick * ls.pdf * strategy.samples))
+    f_cos * ls.li * (weight / (p_pick * ls.pdf * strategy.samples))
 }
 
 /// The MIS weight of a BSDF sample from `p` (density `n_bsdf` x `p_bsdf`) that reached

@@ -10,8 +10,8 @@
 
 use super::nee::{self, LightStrategy, Shading};
 use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts};
+use crate::bsdfs::TransportMode;
 use crate::lights::AreaSampling;
-use crate::materials::{Material, SpecularRay};
 use crate::Scene;
 use penumbra_core::{PixelSampler, Ray, Rgb};
 
@@ -37,6 +37,8 @@ impl Integrator for PathTracer {
         // The vertex the ray left and the BSDF density of its direction; `None` after the
         // camera or a perfectly specular bounce (nothing else could have sampled it).
         let mut previous: Option<(glam::Vec3, f32)> = None;
+        // The product of η² over the refractions so far.
+        let mut eta_scale = 1.0f32;
         for depth in 0.. {
             let Some(it) = scene.intersect(&ray, f32::INFINITY) else {
                 radiance += beta * scene.background;
@@ -68,31 +70,8 @@ impl Integrator for PathTracer {
                 break;
             }
 
-            // Choose the continuation: the diffuse + glossy lobes or one perfectly specular
-            // ray, in proportion to their albedos (luminance).
-            let Material::Phong(m) = it.material;
-            let s = &it.surface;
-            // At most three specular rays (mirror, Fresnel reflection and refraction): kept
-            // on the stack.
-            let mut specular = [SpecularRay::default(); 3];
-            let mut count = 0;
-            for r in m.specular_rays(s.ns, it.wo) {
-                specular[count] = r;
-                count += 1;
-            }
-            let specular = &specular[..count];
-            let lobe_albedo = if m.has_lobes(s.uv) {
-                (m.albedo(s.uv) + m.specular).luminance().max(1e-6)
-            } else {
-                0.0
-            };
-            let total = lobe_albedo + specular.iter().map(|r| r.weight.luminance()).sum::<f32>();
-            if total <= 0.0 {
-                break;
-            }
-            let sh = Shading::new(&it, lobe_albedo / total);
-
-            if lobe_albedo > 0.0 {
+            let sh = Shading::new(&it);
+            if sh.bsdf.has_smooth() {
                 let u_pick = sampler.next_1d();
                 let u = sampler.next_2d();
                 if let Some((index, p_pick)) = scene.lights.pick(selection, u_pick) {
@@ -100,43 +79,25 @@ impl Integrator for PathTracer {
                 }
             }
 
-            let u_choice = sampler.next_1d() * total;
+            // The continuation, drawn from the whole BSDF (delta lobes included).
             let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
-            let next = if u_choice < lobe_albedo {
-                let Some(wi) = m.sample(s.uv, sh.n, it.wo, u_lobe, u) else {
-                    break;
-                };
-                let pdf = sh.bsdf_pdf(wi);
-                if pdf.is_nan() || pdf <= 0.0 || sh.ng.dot(wi) <= 0.0 {
-                    break;
-                }
-                beta *= sh.eval(wi) * (sh.n.dot(wi) / pdf);
-                previous = Some((sh.origin, pdf));
-                wi
-            } else {
-                // The specular ray whose share of the albedo holds u_choice (rounding may
-                // leave u_choice at the very end: then the last ray with a share).
-                let mut rest = u_choice - lobe_albedo;
-                let mut chosen = specular.iter().filter(|r| r.weight.luminance() > 0.0);
-                let Some(r) = chosen
-                    .clone()
-                    .find(|r| {
-                        rest -= r.weight.luminance();
-                        rest < 0.0
-                    })
-                    .or_else(|| chosen.next_back())
-                else {
-                    break;
-                };
-                beta *= r.weight * (total / r.weight.luminance());
-                previous = None;
-                r.wi
+            let Some(bs) = sh.bsdf.sample(sh.wo, u_lobe, u, TransportMode::Radiance) else {
+                break;
             };
+            let wi = sh.frame.to_world(bs.wi);
+            if sh.local(wi).is_none() {
+                break;
+            }
+            beta *= bs.weight;
+            eta_scale *= bs.eta * bs.eta;
             counts.secondary += 1;
-            ray = Ray::spawn(s.p, s.ng, next);
+            ray = Ray::new(sh.origin_towards(wi), wi);
+            previous = (!bs.delta).then_some((ray.origin, bs.pdf));
 
             if depth + 1 >= RR_DEPTH {
-                let q = beta.max_component().min(0.95);
+                // Survival by the throughput with refraction's 1/η² undone (as Mitsuba and
+                // pbrt-v4), so that paths inside glass are not cut for their scaling alone.
+                let q = (beta.max_component() * eta_scale).min(0.95);
                 if sampler.next_1d() >= q {
                     break;
                 }

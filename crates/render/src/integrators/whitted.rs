@@ -31,8 +31,7 @@ impl Whitted {
         };
         // Local shading sees the side of the surface the ray arrived on; lights are seen
         // from the point pushed off it on that side.
-        let sh = Shading::new(&it, 1.0);
-        let (m, s, wo) = (sh.m, &it.surface, it.wo);
+        let sh = Shading::new(&it);
         // One shadow ray per light; an area light shines from one point (its centre), as a
         // point light of intensity L A cos θ_light: the sample divided by its density.
         let centre = LightStrategy {
@@ -40,13 +39,13 @@ impl Whitted {
             samples: 1.0,
             mis: None,
         };
-        let mut radiance = scene.emitted(&it) + scene.ambient * m.albedo(s.uv);
+        let mut radiance = scene.emitted(&it) + scene.ambient * sh.bsdf.albedo();
         for index in 0..scene.lights.len() as u32 {
             radiance += nee::light_sample(scene, &sh, index, 1.0, Vec2::splat(0.5), &centre, counts);
         }
 
         radiance
-            + specular_bounces(&self.options, m, s, wo, depth, beta, counts, |next, weight, counts| {
+            + specular_bounces(&self.options, &sh, depth, beta, counts, |next, weight, counts| {
                 self.trace(scene, next, depth + 1, weight, counts)
             })
     }

@@ -13,11 +13,10 @@
 //!   the critical angle.
 //! - `ior` (default 1.5) inside the surface, `ior_outside` (default 1.0) outside it.
 
-use crate::optics::{fresnel_dielectric, reflect, refract};
+use crate::bsdfs::PhongBsdf;
 use crate::Texture;
-use glam::{Vec2, Vec3};
-use penumbra_core::{warp, Frame, Rgb};
-use std::f32::consts::PI;
+use glam::Vec2;
+use penumbra_core::Rgb;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Phong {
@@ -44,116 +43,29 @@ impl Default for Phong {
     }
 }
 
-/// A secondary ray the material asks for: its direction and weight.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct SpecularRay {
-    pub wi: Vec3,
-    pub weight: Rgb,
-}
-
 impl Phong {
-    /// The local BRDF f(wo, wi) without the cosine; `n` is the shading normal on the side
-    /// of `wo`.
-    pub fn eval(&self, uv: Vec2, n: Vec3, wo: Vec3, wi: Vec3) -> Rgb {
-        let diffuse = self.diffuse.eval(uv) / PI;
-        if self.specular.is_black() {
-            return diffuse;
+    /// The BSDF at texture coordinates `uv`: both-sided diffuse and glossy lobes, with the
+    /// mirror and the dielectric interface as delta lobes.
+    pub fn bsdf(&self, uv: Vec2) -> PhongBsdf {
+        PhongBsdf {
+            diffuse: self.diffuse.eval(uv),
+            specular: self.specular,
+            exponent: self.exponent,
+            mirror: self.mirror,
+            transmission: self.transmission,
+            eta: self.ior / self.ior_outside,
         }
-        // Zero outside the lobe's hemisphere (also for exponent 0, where 0^0 would be 1).
-        let cos_alpha = reflect(wi, n).dot(wo);
-        if cos_alpha <= 0.0 {
-            return diffuse;
-        }
-        diffuse + self.specular * ((self.exponent + 2.0) / (2.0 * PI) * cos_alpha.powf(self.exponent))
-    }
-
-    /// Probabilities of sampling the diffuse and the glossy lobe at `uv`: in proportion to
-    /// their albedos' luminance; `None` when the material has neither (pure specular).
-    fn lobe_probabilities(&self, uv: Vec2) -> Option<(f32, f32)> {
-        let d = self.diffuse.eval(uv).luminance().max(0.0);
-        let s = self.specular.luminance().max(0.0);
-        (d + s > 0.0).then(|| (d / (d + s), s / (d + s)))
-    }
-
-    /// Whether the material has a non-specular (diffuse or glossy) part at `uv`.
-    pub fn has_lobes(&self, uv: Vec2) -> bool {
-        self.lobe_probabilities(uv).is_some()
-    }
-
-    /// A direction for the diffuse + glossy part, drawn from the mixture of a cosine-weighted
-    /// hemisphere about `n` and the Phong lobe about the mirror direction of `wo` (density
-    /// [`Phong::pdf`]); `u_lobe` picks the lobe. `None` when there is nothing to sample or
-    /// the glossy lobe points below the surface.
-    pub fn sample(&self, uv: Vec2, n: Vec3, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<Vec3> {
-        let (pd, _) = self.lobe_probabilities(uv)?;
-        let wi = if u_lobe < pd {
-            Frame::from_normal(n).to_world(warp::cosine_hemisphere(u))
-        } else {
-            Frame::from_normal(reflect(wo, n)).to_world(warp::phong_lobe(u, self.exponent))
-        };
-        (wi.dot(n) > 0.0).then_some(wi)
-    }
-
-    /// Solid-angle density of [`Phong::sample`] at `wi`.
-    pub fn pdf(&self, uv: Vec2, n: Vec3, wo: Vec3, wi: Vec3) -> f32 {
-        let Some((pd, ps)) = self.lobe_probabilities(uv) else {
-            return 0.0;
-        };
-        let cos = wi.dot(n);
-        if cos <= 0.0 {
-            return 0.0;
-        }
-        let mut pdf = pd * cos / PI;
-        if ps > 0.0 {
-            pdf += ps * warp::phong_lobe_pdf(Vec3::new(0.0, 0.0, reflect(wo, n).dot(wi)), self.exponent);
-        }
-        pdf
-    }
-
-    pub fn albedo(&self, uv: Vec2) -> Rgb {
-        self.diffuse.eval(uv)
-    }
-
-    /// The perfectly specular rays leaving the surface towards `wo`: mirror reflection,
-    /// and for a transmissive material the Fresnel-weighted reflection and refraction.
-    /// `n` is the shading normal on the outside of the surface, `wo` the unit direction
-    /// towards the viewer. Radiance crossing into a denser medium is scaled by
-    /// `(eta_i / eta_t)^2` (pbrt-v4, section 9.5.2).
-    pub fn specular_rays(&self, n: Vec3, wo: Vec3) -> impl Iterator<Item = SpecularRay> {
-        let entering = wo.dot(n) > 0.0;
-        let n_wo = if entering { n } else { -n };
-        let mirror = (!self.mirror.is_black()).then(|| SpecularRay {
-            wi: reflect(wo, n_wo),
-            weight: self.mirror,
-        });
-        let (mut fresnel_reflect, mut fresnel_refract) = (None, None);
-        if !self.transmission.is_black() {
-            // eta = n_t / n_i for light going from the wo side to the other.
-            let eta = if entering {
-                self.ior / self.ior_outside
-            } else {
-                self.ior_outside / self.ior
-            };
-            let cos_o = wo.dot(n_wo);
-            let f = fresnel_dielectric(cos_o, eta);
-            fresnel_reflect = Some(SpecularRay {
-                wi: reflect(wo, n_wo),
-                weight: self.transmission * f,
-            });
-            if f < 1.0 {
-                fresnel_refract = refract(wo, n_wo, eta).map(|wi| SpecularRay {
-                    wi,
-                    weight: self.transmission * ((1.0 - f) / (eta * eta)),
-                });
-            }
-        }
-        mirror.into_iter().chain(fresnel_reflect).chain(fresnel_refract)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bsdfs::{Bsdf, BsdfKind, TransportMode};
+    use glam::Vec3;
+    use std::f32::consts::PI;
+
+    const MODE: TransportMode = TransportMode::Radiance;
 
     fn glass() -> Phong {
         Phong {
@@ -163,9 +75,14 @@ mod tests {
         }
     }
 
+    fn bsdf(m: &Phong) -> Bsdf<'static> {
+        Bsdf::one_sided(BsdfKind::Phong(m.bsdf(Vec2::ZERO)))
+    }
+
     #[test]
     fn glass_splits_by_fresnel() {
-        let rays: Vec<_> = glass().specular_rays(Vec3::Z, Vec3::Z).collect();
+        let rays = bsdf(&glass()).specular_rays(Vec3::Z, MODE);
+        let rays = rays.as_slice();
         assert_eq!(rays.len(), 2);
         assert!((rays[0].weight.r - 0.04).abs() < 1e-6 && rays[0].wi == Vec3::Z);
         assert!((rays[1].weight.r - 0.96 / 2.25).abs() < 1e-6 && (rays[1].wi - Vec3::NEG_Z).length() < 1e-6);
@@ -176,14 +93,15 @@ mod tests {
         // Viewed from inside the glass at 60 degrees from the normal: beyond 41.8, all reflects.
         let t = 60f32.to_radians();
         let wo = Vec3::new(t.sin(), 0.0, -t.cos());
-        let rays: Vec<_> = glass().specular_rays(Vec3::Z, wo).collect();
+        let rays = bsdf(&glass()).specular_rays(wo, MODE);
+        let rays = rays.as_slice();
         assert_eq!(rays.len(), 1);
         assert_eq!(rays[0].weight, Rgb::WHITE);
         assert!(rays[0].wi.z < 0.0, "reflected back inside");
     }
 
     /// The diffuse + glossy sampling fits its density (chi-square over the sphere), for
-    /// diffuse, glossy and mixed materials at normal and oblique views.
+    /// diffuse, glossy and mixed materials at normal and oblique views, from either side.
     #[test]
     fn sampling_fits_its_density() {
         let mixed = |kd: f32, ks: f32, n: f32| Phong {
@@ -199,16 +117,17 @@ mod tests {
             (mixed(0.3, 0.6, 5.0), 0.7),
             (mixed(0.5, 0.5, 200.0), 1.0),
             (mixed(0.0, 0.7, 0.0), 0.4),
+            (mixed(0.3, 0.6, 5.0), 2.5),
         ];
-        let n = Vec3::Z;
         for (seed, (m, theta)) in cases.iter().enumerate() {
             let wo = Vec3::new(theta.sin(), 0.05, theta.cos()).normalize();
             let mut lobe = penumbra_testkit::Uniforms::new(100 + seed as u64);
+            let b = bsdf(m);
             let r = penumbra_testkit::chi2_directions(
                 seed as u64,
                 300_000,
-                |u| m.sample(Vec2::ZERO, n, wo, lobe.next_f32(), u),
-                |wi| m.pdf(Vec2::ZERO, n, wo, wi),
+                |u| b.sample(wo, lobe.next_f32(), u, MODE).map(|s| s.wi),
+                |wi| b.pdf(wo, wi, MODE),
             );
             r.assert_fits(
                 &format!(
@@ -231,12 +150,13 @@ mod tests {
             exponent: 20.0,
             ..Phong::default()
         };
+        let b = bsdf(&m);
         let steps = 20_000;
         let mut sum = 0.0;
         for i in 0..steps {
             let theta = (i as f32 + 0.5) / steps as f32 * PI / 2.0;
             let wi = Vec3::new(theta.sin(), 0.0, theta.cos());
-            let f = m.eval(Vec2::ZERO, Vec3::Z, Vec3::Z, wi).r;
+            let f = b.eval(Vec3::Z, wi, MODE).r;
             sum += f * theta.cos() * theta.sin() * 2.0 * PI * (PI / 2.0 / steps as f32);
         }
         assert!((sum - 1.0).abs() < 1e-3, "{sum}");

@@ -1,11 +1,27 @@
-//! `[[material]]` tables: a unique `name`, a `type` (only `phong` so far) and its keys.
+//! `[[material]]` tables: a unique `name`, a `type` and its keys (docs/scene-format.md).
+//!
+//! - `phong` (the default): `diffuse`, `specular`, `exponent`, `mirror`, `transmission`,
+//!   `ior`, `ior_outside`.
+//! - `diffuse`: `reflectance` (colour or texture, default 0.5).
+//! - `conductor`: `metal` (Au, Ag, Cu, Al; default Au) or `eta` and `k` colours;
+//!   `specular` tint; `roughness` (GGX α) or `alpha_u` and `alpha_v`; smooth without.
+//! - `dielectric`: `ior` (default 1.5), `ior_outside` (default 1), `reflectance`,
+//!   `transmittance`, `roughness` / `alpha_u` + `alpha_v`.
+//! - `plastic`: `diffuse` (default 0.5), `specular` (default 1), `ior` (1.5),
+//!   `ior_outside` (1), `roughness` (isotropic).
+//! - `blend`: `a` and `b`, names of materials defined above, and `weight` of `b` (0.5).
+//!
+//! Every type but `phong` and `dielectric` takes `two_sided` (default true): false makes
+//! the back of the surface black, as Mitsuba's BSDFs without `twosided`.
 
 use super::choice;
 use crate::desc::MaterialDesc;
 use crate::params::{Result, Table, Value};
 use penumbra_core::Rgb;
-use penumbra_render::materials::Phong;
+use penumbra_render::materials::{metal_ior, Phong, Roughness, METALS};
 use penumbra_render::{Material, Texture};
+
+const TYPES: [&str; 6] = ["phong", "diffuse", "conductor", "dielectric", "plastic", "blend"];
 
 pub fn read_all(tables: &[Table]) -> Result<Vec<MaterialDesc>> {
     let mut out: Vec<MaterialDesc> = Vec::new();
@@ -17,10 +33,40 @@ pub fn read_all(tables: &[Table]) -> Result<Vec<MaterialDesc>> {
                 .error(format!("material `{name}` is defined twice"))
                 .label("second definition"));
         }
-        if let Some(kind) = t.get("type") {
-            choice(&kind, "material type", &["phong"], |s| (s == "phong").then_some(()))?;
-        }
-        let material = Material::Phong(read_phong(t)?);
+        let kind = match t.get("type") {
+            Some(v) => choice(&v, "material type", &TYPES, |s| {
+                TYPES.contains(&s).then(|| s.to_string())
+            })?,
+            None => "phong".to_string(),
+        };
+        let material = match kind.as_str() {
+            "phong" => Material::Phong(read_phong(t)?),
+            "dielectric" => read_dielectric(t)?,
+            other => {
+                let m = match other {
+                    "diffuse" => Material::Diffuse {
+                        reflectance: texture_or(t, "reflectance", 0.5)?,
+                    },
+                    "conductor" => read_conductor(t)?,
+                    "plastic" => {
+                        let eta = t.positive_or("ior", 1.5)? / t.positive_or("ior_outside", 1.0)?;
+                        let roughness = roughness(t, false)?;
+                        Material::plastic(
+                            texture_or(t, "diffuse", 0.5)?,
+                            texture_or(t, "specular", 1.0)?,
+                            eta,
+                            roughness,
+                        )
+                    }
+                    _ => read_blend(t, &out)?,
+                };
+                if t.get("two_sided").map_or(Ok(true), |v| v.bool())? {
+                    Material::TwoSided(Box::new(m))
+                } else {
+                    m
+                }
+            }
+        };
         t.finish()?;
         out.push(MaterialDesc { name, material });
     }
@@ -47,6 +93,119 @@ fn read_phong(t: &Table) -> Result<Phong> {
         ior,
         ior_outside,
     })
+}
+
+fn read_conductor(t: &Table) -> Result<Material> {
+    let (eta, k) = match (t.get("eta"), t.get("k")) {
+        (Some(eta), Some(k)) => {
+            if let Some(metal) = t.get("metal") {
+                return Err(metal.error("give either `metal` or `eta` and `k`, not both"));
+            }
+            (eta.rgb()?, k.rgb()?)
+        }
+        (Some(v), None) | (None, Some(v)) => return Err(v.error("`eta` and `k` go together")),
+        (None, None) => {
+            let names: Vec<&str> = METALS.iter().map(|m| m.0).collect();
+            match t.get("metal") {
+                Some(v) => choice(&v, "metal", &names, metal_ior)?,
+                None => metal_ior("Au").expect("gold is a named metal"),
+            }
+        }
+    };
+    Ok(Material::Conductor {
+        eta,
+        k,
+        specular: texture_or(t, "specular", 1.0)?,
+        roughness: roughness(t, true)?,
+    })
+}
+
+fn read_dielectric(t: &Table) -> Result<Material> {
+    let eta = t.positive_or("ior", 1.5)? / t.positive_or("ior_outside", 1.0)?;
+    Ok(Material::Dielectric {
+        eta,
+        reflectance: texture_or(t, "reflectance", 1.0)?,
+        transmittance: texture_or(t, "transmittance", 1.0)?,
+        roughness: roughness(t, true)?,
+    })
+}
+
+fn read_blend(t: &Table, defined: &[MaterialDesc]) -> Result<Material> {
+    let part = |key: &str| -> Result<Box<Material>> {
+        let v = t.require(key)?;
+        let name = v.str()?;
+        defined
+            .iter()
+            .find(|m| m.name == name)
+            .map(|m| Box::new(m.material.clone()))
+            .ok_or_else(|| {
+                v.error(format!("no material `{name}` is defined above this blend"))
+                    .label("unknown material")
+            })
+    };
+    let weight = texture_or(t, "weight", 0.5)?;
+    check_range(t, "weight", &weight)?;
+    Ok(Material::Blend {
+        a: part("a")?,
+        b: part("b")?,
+        weight,
+    })
+}
+
+/// `roughness` (α, isotropic) or `alpha_u` and `alpha_v` (when `anisotropic` is allowed);
+/// `None` when absent (smooth).
+fn roughness(t: &Table, anisotropic: bool) -> Result<Option<Roughness>> {
+    let alpha = |key: &str| -> Result<Option<Texture>> {
+        let Some(v) = t.get(key) else { return Ok(None) };
+        let tex = if v.is_number() {
+            Texture::Constant(Rgb::splat(v.f32()?))
+        } else {
+            texture(&v)?
+        };
+        check_range(t, key, &tex)?;
+        Ok(Some(tex))
+    };
+    let iso = alpha("roughness")?;
+    let (u, v) = if anisotropic {
+        (alpha("alpha_u")?, alpha("alpha_v")?)
+    } else {
+        (None, None)
+    };
+    match (iso, u, v) {
+        (Some(a), None, None) => Ok(Some(Roughness {
+            alpha_u: a.clone(),
+            alpha_v: a,
+        })),
+        (None, Some(alpha_u), Some(alpha_v)) => Ok(Some(Roughness { alpha_u, alpha_v })),
+        (None, None, None) => Ok(None),
+        (Some(_), _, _) => Err(t
+            .require("roughness")?
+            .error("give either `roughness` or `alpha_u` and `alpha_v`, not both")),
+        _ => Err(t.error("`alpha_u` and `alpha_v` go together")),
+    }
+}
+
+/// Rejects a roughness or weight outside [0, 1], naming the line.
+fn check_range(t: &Table, key: &str, tex: &Texture) -> Result<()> {
+    let (lo, hi) = (tex.min_value(), tex.max_value());
+    let out = [lo.r, lo.g, lo.b, hi.r, hi.g, hi.b]
+        .into_iter()
+        .find(|x| !(0.0..=1.0).contains(x));
+    match out {
+        Some(x) => Err(t
+            .require(key)?
+            .error(format!("`{key}` must lie in [0, 1], found {x}"))
+            .label("out of range")),
+        None => Ok(()),
+    }
+}
+
+fn texture_or(t: &Table, key: &str, default: f32) -> Result<Texture> {
+    match t.get(key) {
+        Some(v) if v.is_number() => Ok(Texture::Constant(Rgb::splat(v.f32()?))),
+        Some(v) => texture(&v),
+        None => Ok(Texture::Constant(Rgb::splat(default))),
+    }
 }
 
 /// A colour, or a texture table `{ type = "checker", even, odd, size }`.

@@ -88,7 +88,9 @@ fn every_shape_light_and_setting() {
     assert_eq!(d.camera.kind, CameraKind::Orthographic { height: 4.0 });
     assert_eq!(d.camera.position, Vec3::new(1.0, 2.0, 3.0));
     assert_eq!(d.background, Rgb::splat(0.5));
-    let Material::Phong(m) = &d.materials[0].material;
+    let Material::Phong(m) = &d.materials[0].material else {
+        panic!("a phong material")
+    };
     assert_eq!(
         m.diffuse,
         Texture::Checker {
@@ -293,5 +295,96 @@ fn zero_emission_is_a_warning() {
     assert_eq!(
         d.warnings,
         vec!["test.toml:3: this shape's emission is zero: it gives no light"]
+    );
+}
+
+#[test]
+fn bad_materials_are_errors_naming_the_line() {
+    let m = "[[material]]\nname = \"m\"\n";
+    let cases: Vec<(String, &str, usize)> = vec![
+        (
+            format!("{m}type = \"conductor\"\nroughness = 1.5\n"),
+            "must lie in [0, 1], found 1.5",
+            4,
+        ),
+        (
+            format!("{m}type = \"dielectric\"\nroughness = -0.1\n"),
+            "must lie in [0, 1]",
+            4,
+        ),
+        (
+            format!("{m}type = \"plastic\"\nroughness = {{ type = \"checker\", even = 0.2, odd = 2 }}\n"),
+            "found 2",
+            4,
+        ),
+        (format!("{m}type = \"conductor\"\nalpha_u = 0.1\n"), "go together", 1),
+        (
+            format!("{m}type = \"conductor\"\nroughness = 0.1\nalpha_u = 0.1\nalpha_v = 0.2\n"),
+            "not both",
+            4,
+        ),
+        (
+            format!("{m}type = \"conductor\"\nmetal = \"Pt\"\n"),
+            "unknown metal `Pt`",
+            4,
+        ),
+        (format!("{m}type = \"conductor\"\neta = 1\n"), "go together", 4),
+        (format!("{m}type = \"dielectric\"\nior = 0\n"), "positive", 4),
+        (
+            format!("{m}type = \"blend\"\na = \"x\"\nb = \"m\"\n"),
+            "no material `x` is defined above",
+            4,
+        ),
+        (format!("{m}type = \"blend\"\nweight = 1.2\n"), "must lie in [0, 1]", 4),
+        (format!("{m}type = \"velvet\"\n"), "unknown material type `velvet`", 3),
+        (
+            format!("{m}type = \"diffuse\"\nroughness = 0.2\n"),
+            "unknown key `roughness`",
+            4,
+        ),
+    ];
+    for (text, message, line) in &cases {
+        let (e, at) = error_of(text);
+        assert!(e.contains(message), "{text}: `{e}` does not say `{message}`");
+        assert_eq!(at, Some(*line), "{text}: {e}");
+    }
+}
+
+#[test]
+fn every_material_type_reads() {
+    let d = parse(
+        "[[material]]\nname = \"d\"\ntype = \"diffuse\"\nreflectance = 0.3\ntwo_sided = false\n\n\
+         [[material]]\nname = \"c\"\ntype = \"conductor\"\nmetal = \"Cu\"\nalpha_u = 0.1\nalpha_v = 0.3\n\n\
+         [[material]]\nname = \"g\"\ntype = \"dielectric\"\nior = 1.33\nroughness = 0.2\n\n\
+         [[material]]\nname = \"p\"\ntype = \"plastic\"\ndiffuse = [0.1, 0.2, 0.3]\n\n\
+         [[material]]\nname = \"b\"\ntype = \"blend\"\na = \"d\"\nb = \"c\"\nweight = 0.25\n",
+    );
+    let kinds: Vec<&str> = d
+        .materials
+        .iter()
+        .map(|m| match &m.material {
+            Material::Diffuse { .. } => "diffuse",
+            Material::TwoSided(inner) => match **inner {
+                Material::Conductor { .. } => "two-sided conductor",
+                Material::Plastic { .. } => "two-sided plastic",
+                Material::Blend { .. } => "two-sided blend",
+                _ => "two-sided other",
+            },
+            Material::Dielectric { eta, .. } => {
+                assert!((eta - 1.33).abs() < 1e-6);
+                "dielectric"
+            }
+            _ => "other",
+        })
+        .collect();
+    assert_eq!(
+        kinds,
+        [
+            "diffuse",
+            "two-sided conductor",
+            "dielectric",
+            "two-sided plastic",
+            "two-sided blend"
+        ]
     );
 }

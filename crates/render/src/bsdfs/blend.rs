@@ -1,0 +1,79 @@
+//! A blend of two materials, f = (1 - w) f_a + w f_b (Mitsuba's `blendbsdf`). Sampling
+//! picks one by its weight; a smooth direction is then weighted by the whole mixture's f
+//! and density, so that multiple importance sampling sees one BSDF.
+
+use super::{Bsdf, BsdfSample, SpecularRays, TransportMode};
+use crate::Material;
+use glam::{Vec2, Vec3};
+use penumbra_core::Rgb;
+
+#[derive(Clone, Copy, Debug)]
+pub struct Blend<'a> {
+    pub a: &'a Material,
+    pub b: &'a Material,
+    /// Weight of `b`, in [0, 1].
+    pub weight: f32,
+    /// Where the two materials' textures are looked up.
+    pub uv: Vec2,
+}
+
+impl<'a> Blend<'a> {
+    fn parts(&self) -> [(f32, Bsdf<'a>); 2] {
+        [
+            (1.0 - self.weight, self.a.bsdf(self.uv)),
+            (self.weight, self.b.bsdf(self.uv)),
+        ]
+    }
+
+    pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
+        self.parts()
+            .iter()
+            .filter(|(w, _)| *w > 0.0)
+            .fold(Rgb::BLACK, |f, (w, b)| f + b.eval(wo, wi, mode) * *w)
+    }
+
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+        self.parts()
+            .iter()
+            .filter(|(w, _)| *w > 0.0)
+            .map(|(w, b)| w * b.pdf(wo, wi, mode))
+            .sum()
+    }
+
+    pub fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        let [(wa, a), (wb, b)] = self.parts();
+        let (chosen, p, u) = if u < wa {
+            (a, wa, u / wa)
+        } else {
+            (b, wb, (u - wa) / wb)
+        };
+        let s = chosen.sample(wo, u.min(penumbra_core::samplers::ONE_MINUS_EPSILON), u2, mode)?;
+        if s.delta {
+            return Some(BsdfSample { pdf: s.pdf * p, ..s });
+        }
+        let pdf = self.pdf(wo, s.wi, mode);
+        (pdf > 0.0).then(|| BsdfSample {
+            weight: self.eval(wo, s.wi, mode) * (s.wi.z.abs() / pdf),
+            pdf,
+            ..s
+        })
+    }
+
+    pub fn specular_rays(&self, wo: Vec3, mode: TransportMode, rays: &mut SpecularRays) {
+        for (w, b) in self.parts() {
+            if w > 0.0 {
+                for r in b.specular_rays(wo, mode).as_slice() {
+                    rays.push(r.wi, r.weight * w);
+                }
+            }
+        }
+    }
+
+    pub fn has_smooth(&self) -> bool {
+        self.parts().iter().any(|(w, b)| *w > 0.0 && b.has_smooth())
+    }
+
+    pub fn albedo(&self) -> Rgb {
+        self.parts().iter().fold(Rgb::BLACK, |a, (w, b)| a + b.albedo() * *w)
+    }
+}

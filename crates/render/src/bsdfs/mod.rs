@@ -1,0 +1,253 @@
+//! BSDFs: how a surface point scatters light, as small values built per hit from a
+//! [`Material`](crate::Material) and its textures (no allocation per ray).
+//!
+//! Directions live in the local shading frame (z = shading normal, as in pbrt and Mitsuba)
+//! and point away from the surface. [`Bsdf::eval`] is f(wo, wi) without the cosine, for the
+//! non-delta part; [`Bsdf::sample`] draws wi from the whole BSDF, delta lobes included, and
+//! returns the weight f |cos θi| / pdf; [`Bsdf::pdf`] is the solid-angle density with which
+//! `sample` produces a non-delta wi (the probability of choosing the non-delta part
+//! included), so that multiple importance sampling can weigh light samples against it.
+//! [`Bsdf::specular_rays`] lists the delta lobes for the Whitted and direct integrators.
+//!
+//! Adding a BSDF: a new file with `eval`, `sample`, `pdf` and `specular_rays`, one variant
+//! in [`BsdfKind`] and one arm in each `match` below.
+
+mod blend;
+mod conductor;
+mod dielectric;
+mod diffuse;
+pub mod microfacet;
+mod phong;
+mod plastic;
+#[cfg(test)]
+mod tests;
+
+pub use blend::Blend;
+pub use conductor::Conductor;
+pub use dielectric::Dielectric;
+pub use diffuse::Diffuse;
+pub use phong::PhongBsdf;
+pub use plastic::Plastic;
+
+use glam::{Vec2, Vec3};
+use penumbra_core::Rgb;
+
+/// Which quantity a path carries: radiance from the camera's side, or importance from the
+/// lights' (light tracing, photons). Refraction scales radiance by 1/η² and importance not.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TransportMode {
+    #[default]
+    Radiance,
+    Importance,
+}
+
+/// A direction drawn by [`Bsdf::sample`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BsdfSample {
+    pub wi: Vec3,
+    /// f |cos θi| / pdf (for a delta lobe: its weight over the probability of choosing it).
+    pub weight: Rgb,
+    /// Solid-angle density; for a delta lobe the probability of having chosen it.
+    pub pdf: f32,
+    /// Drawn from a delta (perfectly specular) lobe: no other strategy could produce it.
+    pub delta: bool,
+    /// Relative index of refraction η_t / η_i crossed (1 for reflection).
+    pub eta: f32,
+}
+
+/// A perfectly specular direction and its weight f |cos θi| (per unit of delta).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SpecularRay {
+    pub wi: Vec3,
+    pub weight: Rgb,
+}
+
+/// Up to four perfectly specular rays, kept on the stack.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SpecularRays {
+    rays: [SpecularRay; 4],
+    len: usize,
+}
+
+impl SpecularRays {
+    pub fn push(&mut self, wi: Vec3, weight: Rgb) {
+        if self.len < self.rays.len() && !weight.is_black() {
+            self.rays[self.len] = SpecularRay { wi, weight };
+            self.len += 1;
+        }
+    }
+
+    pub fn as_slice(&self) -> &[SpecularRay] {
+        &self.rays[..self.len]
+    }
+}
+
+/// The scattering functions this renderer knows.
+#[derive(Clone, Copy, Debug)]
+pub enum BsdfKind<'a> {
+    Diffuse(Diffuse),
+    Phong(PhongBsdf),
+    Conductor(Conductor),
+    Dielectric(Dielectric),
+    Plastic(Plastic),
+    Blend(Blend<'a>),
+}
+
+/// A BSDF at one surface point. A one-sided BSDF reflects on the side its shading normal
+/// faces; `two_sided` mirrors it onto the back (Mitsuba's `twosided`).
+#[derive(Clone, Copy, Debug)]
+pub struct Bsdf<'a> {
+    pub kind: BsdfKind<'a>,
+    pub two_sided: bool,
+}
+
+/// z flipped: the direction mirrored through the tangent plane.
+#[inline]
+fn flip(w: Vec3) -> Vec3 {
+    Vec3::new(w.x, w.y, -w.z)
+}
+
+impl<'a> Bsdf<'a> {
+    pub fn one_sided(kind: BsdfKind<'a>) -> Self {
+        Bsdf { kind, two_sided: false }
+    }
+
+    /// Whether directions about `wo` must be mirrored onto the front first.
+    #[inline]
+    fn mirrored(&self, wo: Vec3) -> bool {
+        self.two_sided && wo.z < 0.0
+    }
+
+    /// f(wo, wi) of the non-delta part, without the cosine.
+    pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
+        if self.mirrored(wo) {
+            return self.kind.eval(flip(wo), flip(wi), mode);
+        }
+        self.kind.eval(wo, wi, mode)
+    }
+
+    /// Density with which [`Bsdf::sample`] produces the non-delta direction `wi`.
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+        if self.mirrored(wo) {
+            return self.kind.pdf(flip(wo), flip(wi), mode);
+        }
+        self.kind.pdf(wo, wi, mode)
+    }
+
+    /// A direction from the whole BSDF: `u` chooses among lobes, `u2` within one.
+    pub fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        if self.mirrored(wo) {
+            return self
+                .kind
+                .sample(flip(wo), u, u2, mode)
+                .map(|s| BsdfSample { wi: flip(s.wi), ..s });
+        }
+        self.kind.sample(wo, u, u2, mode)
+    }
+
+    /// The perfectly specular rays leaving towards `wo`, with their weights.
+    pub fn specular_rays(&self, wo: Vec3, mode: TransportMode) -> SpecularRays {
+        if self.mirrored(wo) {
+            let mut rays = SpecularRays::default();
+            for r in self.kind.specular_rays(flip(wo), mode).as_slice() {
+                rays.push(flip(r.wi), r.weight);
+            }
+            return rays;
+        }
+        self.kind.specular_rays(wo, mode)
+    }
+
+    /// Whether the BSDF has a non-delta part (worth sampling lights for).
+    pub fn has_smooth(&self) -> bool {
+        self.kind.has_smooth()
+    }
+
+    /// A colour for the albedo AOV and ambient light: the diffuse reflectance, or the
+    /// specular colour of a material without one.
+    pub fn albedo(&self) -> Rgb {
+        self.kind.albedo()
+    }
+}
+
+impl BsdfKind<'_> {
+    pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
+        match self {
+            BsdfKind::Diffuse(b) => b.eval(wo, wi),
+            BsdfKind::Phong(b) => b.eval(wo, wi),
+            BsdfKind::Conductor(b) => b.eval(wo, wi),
+            BsdfKind::Dielectric(b) => b.eval(wo, wi, mode),
+            BsdfKind::Plastic(b) => b.eval(wo, wi),
+            BsdfKind::Blend(b) => b.eval(wo, wi, mode),
+        }
+    }
+
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+        match self {
+            BsdfKind::Diffuse(b) => b.pdf(wo, wi),
+            BsdfKind::Phong(b) => b.pdf(wo, wi),
+            BsdfKind::Conductor(b) => b.pdf(wo, wi),
+            BsdfKind::Dielectric(b) => b.pdf(wo, wi),
+            BsdfKind::Plastic(b) => b.pdf(wo, wi),
+            BsdfKind::Blend(b) => b.pdf(wo, wi, mode),
+        }
+    }
+
+    pub fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        let s = match self {
+            BsdfKind::Diffuse(b) => b.sample(wo, u2),
+            BsdfKind::Phong(b) => b.sample(wo, u, u2, mode),
+            BsdfKind::Conductor(b) => b.sample(wo, u2),
+            BsdfKind::Dielectric(b) => b.sample(wo, u, u2, mode),
+            BsdfKind::Plastic(b) => b.sample(wo, u, u2),
+            BsdfKind::Blend(b) => b.sample(wo, u, u2, mode),
+        }?;
+        (s.pdf > 0.0 && s.weight.is_finite() && s.wi.is_finite()).then_some(s)
+    }
+
+    pub fn specular_rays(&self, wo: Vec3, mode: TransportMode) -> SpecularRays {
+        let mut rays = SpecularRays::default();
+        match self {
+            BsdfKind::Diffuse(_) => {}
+            BsdfKind::Phong(b) => b.specular_rays(wo, mode, &mut rays),
+            BsdfKind::Conductor(b) => b.specular_rays(wo, &mut rays),
+            BsdfKind::Dielectric(b) => b.specular_rays(wo, mode, &mut rays),
+            BsdfKind::Plastic(b) => b.specular_rays(wo, &mut rays),
+            BsdfKind::Blend(b) => b.specular_rays(wo, mode, &mut rays),
+        }
+        rays
+    }
+
+    pub fn has_smooth(&self) -> bool {
+        match self {
+            BsdfKind::Diffuse(b) => !b.reflectance.is_black(),
+            BsdfKind::Phong(b) => b.has_smooth(),
+            BsdfKind::Conductor(b) => b.alpha.is_some(),
+            BsdfKind::Dielectric(b) => b.alpha.is_some(),
+            BsdfKind::Plastic(_) => true,
+            BsdfKind::Blend(b) => b.has_smooth(),
+        }
+    }
+
+    pub fn albedo(&self) -> Rgb {
+        match self {
+            BsdfKind::Diffuse(b) => b.reflectance,
+            BsdfKind::Phong(b) => b.diffuse,
+            BsdfKind::Conductor(b) => b.specular,
+            BsdfKind::Dielectric(b) => b.transmittance,
+            BsdfKind::Plastic(b) => b.diffuse,
+            BsdfKind::Blend(b) => b.albedo(),
+        }
+    }
+}
+
+/// Whether `a` and `b` lie on the same side of the surface.
+#[inline]
+pub(crate) fn same_hemisphere(a: Vec3, b: Vec3) -> bool {
+    a.z * b.z > 0.0
+}
+
+/// Mirror reflection about the normal, in the local frame.
+#[inline]
+pub(crate) fn reflect_z(w: Vec3) -> Vec3 {
+    Vec3::new(-w.x, -w.y, w.z)
+}
