@@ -1,6 +1,7 @@
 //! A discrete distribution over `n` items with given non-negative weights, sampled by
 //! inverting its cumulative distribution (pbrt-v4 section A.1, "PiecewiseConstant1D",
-//! restricted to the discrete case). Used to pick a light by power or a triangle by area.
+//! restricted to the discrete case). Used to pick a light by power or a triangle by area;
+//! [`Distribution2D`] builds on it for environment maps.
 
 /// Items `0..n` with probability proportional to their weights.
 #[derive(Clone, Debug, PartialEq)]
@@ -59,9 +60,92 @@ impl Distribution1D {
     }
 }
 
+/// A piecewise-constant density over the unit square from a `width` x `height` grid of
+/// non-negative weights (row-major, row 0 at v = 0), sampled by the marginal over rows and
+/// the conditional within the chosen row (pbrt-v4 section A.5, "PiecewiseConstant2D").
+#[derive(Clone, Debug, PartialEq)]
+pub struct Distribution2D {
+    rows: Vec<Option<Distribution1D>>,
+    marginal: Distribution1D,
+    width: usize,
+    height: usize,
+}
+
+impl Distribution2D {
+    /// `None` when the weights are all zero, or one is negative or not finite.
+    pub fn new(weights: &[f32], width: usize, height: usize) -> Option<Self> {
+        if width == 0 || height == 0 || weights.len() != width * height {
+            return None;
+        }
+        if weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) {
+            return None;
+        }
+        let rows: Vec<Option<Distribution1D>> = weights
+            .chunks(width)
+            .map(|row| Distribution1D::new(row.iter().copied()))
+            .collect();
+        let marginal = Distribution1D::new(rows.iter().map(|r| r.as_ref().map_or(0.0, |d| d.total() as f32)))?;
+        Some(Distribution2D {
+            rows,
+            marginal,
+            width,
+            height,
+        })
+    }
+
+    /// A point of the unit square and its density there.
+    pub fn sample(&self, u: [f32; 2]) -> ([f32; 2], f32) {
+        let (y, py, rest_y) = self.marginal.sample(u[1]);
+        let row = self.rows[y].as_ref().expect("rows of zero weight are never chosen");
+        let (x, px, rest_x) = row.sample(u[0]);
+        let point = [
+            (x as f32 + rest_x) / self.width as f32,
+            (y as f32 + rest_y) / self.height as f32,
+        ];
+        (point, px * py * (self.width * self.height) as f32)
+    }
+
+    /// The density at point `p` of the unit square.
+    pub fn pdf(&self, p: [f32; 2]) -> f32 {
+        let x = ((p[0] * self.width as f32) as usize).min(self.width - 1);
+        let y = ((p[1] * self.height as f32) as usize).min(self.height - 1);
+        let Some(row) = &self.rows[y] else {
+            return 0.0;
+        };
+        self.marginal.pmf(y) * row.pmf(x) * (self.width * self.height) as f32
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn two_dimensional_density_matches_its_weights() {
+        // 3 x 2 weights; the density of each cell is weight / mean weight.
+        let w = [1.0, 0.0, 2.0, 3.0, 0.0, 0.0];
+        let d = Distribution2D::new(&w, 3, 2).unwrap();
+        let mean = 1.0;
+        for (i, &wi) in w.iter().enumerate() {
+            let p = [((i % 3) as f32 + 0.5) / 3.0, ((i / 3) as f32 + 0.5) / 2.0];
+            assert!((d.pdf(p) - wi / mean).abs() < 1e-5, "cell {i}: {}", d.pdf(p));
+        }
+        // Samples land in cells in proportion to the weights, with the density of their cell.
+        let n = 60_000;
+        let mut counts = [0usize; 6];
+        for k in 0..n {
+            let u = [((k * 7919) % n) as f32 / n as f32, (k as f32 + 0.5) / n as f32];
+            let (p, pdf) = d.sample(u);
+            let cell = ((p[0] * 3.0) as usize).min(2) + 3 * ((p[1] * 2.0) as usize).min(1);
+            assert!((pdf - d.pdf(p)).abs() < 1e-4 * pdf, "{p:?}: {pdf} vs {}", d.pdf(p));
+            counts[cell] += 1;
+        }
+        for (i, &c) in counts.iter().enumerate() {
+            let want = w[i] / 6.0;
+            assert!((c as f32 / n as f32 - want).abs() < 0.01, "cell {i}: {c}");
+        }
+        assert!(Distribution2D::new(&[0.0; 4], 2, 2).is_none());
+    }
 
     #[test]
     fn picks_in_proportion_to_weight_and_skips_empty_items() {

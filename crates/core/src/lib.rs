@@ -18,7 +18,7 @@ pub mod warp;
 
 pub use bounds::Aabb;
 pub use color::Rgb;
-pub use distribution::Distribution1D;
+pub use distribution::{Distribution1D, Distribution2D};
 pub use frame::Frame;
 pub use glam::{Mat3, Mat4, UVec2, Vec2, Vec3};
 pub use ray::Ray;

@@ -1,7 +1,7 @@
 //! The renderable scene: camera, film settings, geometry with its accelerator, materials
 //! and lights. Built from a scene description by `penumbra-scene`.
 
-use crate::lights::{AreaLight, LightSet};
+use crate::lights::{AreaLight, Environment, Light, LightSet};
 use crate::{Camera, Filter, Material};
 use glam::Vec3;
 use penumbra_core::{Ray, Rgb};
@@ -19,7 +19,10 @@ pub struct Scene {
     /// The material of each scene object (as numbered by the geometry builder).
     pub object_materials: Vec<u32>,
     pub lights: LightSet,
-    /// Radiance of rays that leave the scene.
+    /// The index in `lights` of the environment light, if the scene has one.
+    pub environment: Option<u32>,
+    /// Radiance of rays that leave a scene without an environment light (seen, and
+    /// reflected by the path tracer, but not sampled as a light).
     pub background: Rgb,
     /// Ambient light, reflected by the diffuse albedo of every surface.
     pub ambient: Rgb,
@@ -56,6 +59,20 @@ impl Scene {
         self.emitter_at(it).map_or(Rgb::BLACK, |(_, light)| {
             light.le(light.emitter.normal_at(it.surface.p), it.wo)
         })
+    }
+
+    /// The environment light and its index in [`Scene::lights`].
+    pub fn environment(&self) -> Option<(u32, &Environment)> {
+        let index = self.environment?;
+        match &self.lights.lights()[index as usize] {
+            Light::Environment(env) => Some((index, env)),
+            _ => None,
+        }
+    }
+
+    /// Radiance arriving along a ray of direction `dir` that leaves the scene.
+    pub fn escaped(&self, dir: Vec3) -> Rgb {
+        self.environment().map_or(self.background, |(_, env)| env.le(dir))
     }
 
     /// Whether anything blocks `ray` in `(0, t_max)`.

@@ -2,14 +2,14 @@
 //! meshes given one accelerator each, the top-level accelerator built, lights and camera
 //! set up.
 
-use crate::desc::{CameraKind, LightDesc, SceneDesc, ShapeKind};
+use crate::desc::{CameraKind, EnvironmentDesc, EnvironmentSource, LightDesc, SceneDesc, ShapeKind};
 use crate::emitters::area_lights;
 use crate::{Location, SceneError};
 use penumbra_core::Transform;
 use penumbra_geometry::shapes::{Cuboid, Disk, Plane, Quad, Sphere};
 use penumbra_geometry::{GeometryBuilder, Instance, MeshAccel, Shape};
 use penumbra_render::cameras::{Orthographic, Perspective};
-use penumbra_render::lights::{Directional, LightSetBuilder, Point, Spot};
+use penumbra_render::lights::{Directional, EnvImage, Environment, LightSetBuilder, Point, Spot};
 use penumbra_render::materials::Phong;
 use penumbra_render::{Camera, Light, Material, Scene};
 use std::sync::Arc;
@@ -135,6 +135,10 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
     }) {
         lights.add(light);
     }
+    let environment = match &desc.environment {
+        Some(e) => Some(lights.add(Light::Environment(environment(e).map_err(|m| fail(&e.location, &m))?))),
+        None => None,
+    };
     let lights = lights.build();
 
     Ok(Scene {
@@ -147,7 +151,24 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         materials,
         object_materials,
         lights,
+        environment,
         background: desc.background,
         ambient: desc.ambient,
     })
+}
+
+/// The environment light `e` describes, its map loaded; the error names the map.
+fn environment(e: &EnvironmentDesc) -> Result<Environment, String> {
+    let EnvironmentSource::Image(path) = &e.source else {
+        return Ok(Environment::constant(e.scale));
+    };
+    let image = crate::image_io::read_input_image(path, false)
+        .map_err(|err| format!("cannot read the environment map {}: {err}", path.display()))?;
+    let image = EnvImage {
+        width: image.width as usize,
+        height: image.height as usize,
+        pixels: image.pixels,
+    };
+    Environment::image(image, e.scale, glam::Mat3::from_mat4(e.transform.m))
+        .map_err(|m| format!("the environment map {}: {m}", path.display()))
 }

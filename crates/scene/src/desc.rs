@@ -22,6 +22,7 @@ pub struct SceneDesc {
     pub meshes: Vec<Arc<TriangleMesh>>,
     pub shapes: Vec<ShapeDesc>,
     pub lights: Vec<LightDesc>,
+    pub environment: Option<EnvironmentDesc>,
     /// What the reader skipped or changed, for the user: each names the place in the file.
     pub warnings: Vec<String>,
 }
@@ -167,6 +168,24 @@ pub enum LightDesc {
     },
 }
 
+/// Light from every direction at infinity.
+#[derive(Clone, Debug)]
+pub struct EnvironmentDesc {
+    pub source: EnvironmentSource,
+    /// Multiplies the map (or is the radiance of a constant environment).
+    pub scale: Rgb,
+    /// Turns the map; a rotation.
+    pub transform: Transform,
+    pub location: Option<Location>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum EnvironmentSource {
+    Constant,
+    /// An equirectangular image file (.exr, .hdr, .pfm), resolved against the scene's folder.
+    Image(std::path::PathBuf),
+}
+
 impl SceneDesc {
     /// An empty scene: default camera and settings, nothing in it.
     pub fn empty() -> Self {
@@ -179,6 +198,7 @@ impl SceneDesc {
             meshes: Vec::new(),
             shapes: Vec::new(),
             lights: Vec::new(),
+            environment: None,
             warnings: Vec::new(),
         }
     }

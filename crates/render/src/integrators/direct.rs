@@ -158,7 +158,7 @@ impl Direct {
         counts: &mut RayCounts,
     ) -> Rgb {
         let Some(it) = scene.intersect(ray, f32::INFINITY) else {
-            return scene.background;
+            return scene.escaped(ray.dir);
         };
         let sh = Shading::new(&it);
         let mut radiance = scene.emitted(&it) + scene.ambient * sh.bsdf.albedo();
@@ -292,8 +292,18 @@ impl Direct {
         let p_bsdf = bs.pdf;
         counts.secondary += 1;
         let origin = sh.origin_towards(wi);
+        let n = n as f32;
         let Some(hit) = scene.intersect(&Ray::new(origin, wi), f32::INFINITY) else {
-            return Rgb::BLACK;
+            let Some((index, env)) = scene.environment() else {
+                return Rgb::BLACK;
+            };
+            let weight = if o.sampling == LightSampling::Mis {
+                let p_light = scene.lights.pmf(o.selection, index) * env.pdf(wi);
+                o.heuristic.weight(n * p_bsdf, n * p_light)
+            } else {
+                1.0
+            };
+            return bs.weight * env.le(wi) * (weight / n);
         };
         let Some((index, light)) = scene.emitter_at(&hit) else {
             return Rgb::BLACK;
@@ -303,7 +313,6 @@ impl Direct {
         if le.is_black() {
             return Rgb::BLACK;
         }
-        let n = n as f32;
         let weight = if o.sampling == LightSampling::Mis {
             let (sel, h) = (o.selection, o.heuristic);
             nee::emitter_weight(

@@ -41,7 +41,18 @@ impl Integrator for PathTracer {
         let mut eta_scale = 1.0f32;
         for depth in 0.. {
             let Some(it) = scene.intersect(&ray, f32::INFINITY) else {
-                radiance += beta * scene.background;
+                // The environment, weighted against its light sampling as an emitter is.
+                radiance += beta
+                    * match scene.environment() {
+                        Some((index, env)) => {
+                            let weight = previous.map_or(1.0, |(_, p_bsdf)| {
+                                let p_light = scene.lights.pmf(selection, index) * env.pdf(ray.dir);
+                                heuristic.weight(p_bsdf, p_light)
+                            });
+                            env.le(ray.dir) * weight
+                        }
+                        None => scene.background,
+                    };
                 break;
             };
             if let Some((index, light)) = scene.emitter_at(&it) {

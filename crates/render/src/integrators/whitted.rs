@@ -27,7 +27,7 @@ impl Whitted {
     /// bounces from the camera.
     fn trace(&self, scene: &Scene, ray: &Ray, depth: u32, beta: Rgb, counts: &mut RayCounts) -> Rgb {
         let Some(it) = scene.intersect(ray, f32::INFINITY) else {
-            return scene.background;
+            return scene.escaped(ray.dir);
         };
         // Local shading sees the side of the surface the ray arrived on; lights are seen
         // from the point pushed off it on that side.
@@ -40,7 +40,8 @@ impl Whitted {
             mis: None,
         };
         let mut radiance = scene.emitted(&it) + scene.ambient * sh.bsdf.albedo();
-        for index in 0..scene.lights.len() as u32 {
+        // (The environment is seen through the rays that leave the scene only.)
+        for index in (0..scene.lights.len() as u32).filter(|&i| Some(i) != scene.environment) {
             radiance += nee::light_sample(scene, &sh, index, 1.0, Vec2::splat(0.5), &centre, counts);
         }
 

@@ -1,12 +1,14 @@
 //! Lights. Point-like lights (point, spot, directional) are delta distributions: a shading
 //! point receives light from exactly one direction, tested by one shadow ray. Area lights
-//! ([`AreaLight`]) are emitting surfaces, sampled by area or by solid angle.
+//! ([`AreaLight`]) are emitting surfaces, sampled by area or by solid angle; the
+//! [`Environment`] surrounds the scene at infinity.
 //!
 //! Adding a light: a new file with `sample_li` and `power`, a variant in [`Light`] and an
 //! arm in each match.
 
 mod area;
 mod directional;
+pub mod environment;
 pub mod emitter;
 #[cfg(test)]
 mod emitter_tests;
@@ -16,6 +18,7 @@ mod spot;
 
 pub use area::{AreaLight, AreaSampling};
 pub use directional::Directional;
+pub use environment::{EnvImage, Environment};
 pub use point::Point;
 pub use set::{LightSelection, LightSet, LightSetBuilder};
 pub use spot::Spot;
@@ -43,6 +46,7 @@ pub enum Light {
     Spot(Spot),
     Directional(Directional),
     Area(AreaLight),
+    Environment(Environment),
 }
 
 impl Light {
@@ -53,12 +57,13 @@ impl Light {
             Light::Spot(l) => l.sample_li(p),
             Light::Directional(l) => l.sample_li(p),
             Light::Area(l) => l.sample_li(p, u, strategy),
+            Light::Environment(l) => l.sample_li(u),
         }
     }
 
     /// Whether the light is a delta distribution (reachable only by light sampling).
     pub fn is_delta(&self) -> bool {
-        !matches!(self, Light::Area(_))
+        !matches!(self, Light::Area(_) | Light::Environment(_))
     }
 
     /// Total emitted power (a luminance), for choosing among lights.
@@ -68,6 +73,7 @@ impl Light {
             Light::Spot(l) => l.power(),
             Light::Directional(l) => l.power(scene_radius),
             Light::Area(l) => l.power(),
+            Light::Environment(l) => l.power(scene_radius),
         }
     }
 }

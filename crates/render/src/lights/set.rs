@@ -70,9 +70,11 @@ impl LightSetBuilder {
         }
     }
 
-    /// Adds a light that is not part of the geometry (point, spot, directional).
-    pub fn add(&mut self, light: Light) {
+    /// Adds a light that is not part of the geometry (point, spot, directional,
+    /// environment); returns its index.
+    pub fn add(&mut self, light: Light) -> u32 {
         self.add_group(vec![light]);
+        self.set.lights.len() as u32 - 1
     }
 
     /// Adds the area lights of scene object `object` (one per triangle for a mesh).

@@ -7,7 +7,7 @@
 mod material;
 mod shape;
 
-use crate::desc::{CameraDesc, CameraKind, LightDesc, RenderDesc, SceneDesc};
+use crate::desc::{CameraDesc, CameraKind, EnvironmentDesc, EnvironmentSource, LightDesc, RenderDesc, SceneDesc};
 use crate::params::{parse_toml, Result, Table, Value};
 use crate::SourceFile;
 use glam::Vec3;
@@ -35,6 +35,16 @@ pub fn read(file: &Arc<SourceFile>) -> Result<SceneDesc> {
     if let Some(t) = top.table("world")? {
         desc.background = t.rgb_or("background", Rgb::BLACK)?;
         desc.ambient = t.rgb_or("ambient", Rgb::BLACK)?;
+        t.finish()?;
+    }
+    if let Some(t) = top.table("environment")? {
+        let env = read_environment(&t)?;
+        if !desc.background.is_black() {
+            return Err(t.error(
+                "a scene with an `[environment]` takes its background from it: remove `background` from `[world]`",
+            ));
+        }
+        desc.environment = Some(env);
         t.finish()?;
     }
     let materials = material::read_all(&top.tables("material")?)?;
@@ -274,6 +284,50 @@ fn read_camera(t: &Table) -> Result<CameraDesc> {
         position,
         target,
         up,
+        location: Some(t.location()),
+    })
+}
+
+/// `[environment]`: `radiance` (a constant colour) or `file` (an equirectangular .exr, .hdr
+/// or .pfm map) with `scale`, and a `transform` that may only rotate.
+fn read_environment(t: &Table) -> Result<EnvironmentDesc> {
+    let (source, scale) = match (t.get("file"), t.get("radiance")) {
+        (Some(f), None) => {
+            let scale = match t.get("scale") {
+                Some(v) if v.is_number() => Rgb::splat(v.f32()?),
+                Some(v) => v.rgb()?,
+                None => Rgb::WHITE,
+            };
+            let location = t.location();
+            let base = location.file.path.parent().unwrap_or(std::path::Path::new("."));
+            (EnvironmentSource::Image(base.join(f.str()?)), scale)
+        }
+        (None, Some(r)) => (EnvironmentSource::Constant, r.rgb()?),
+        (Some(f), Some(_)) => return Err(f.error("give either `file` or `radiance`, not both")),
+        (None, None) => return Err(t.error("`[environment]` needs `file` (an image) or `radiance` (a colour)")),
+    };
+    if scale.r < 0.0 || scale.g < 0.0 || scale.b < 0.0 {
+        let key = if t.get("scale").is_some() { "scale" } else { "radiance" };
+        return Err(t.require(key)?.error("must not be negative"));
+    }
+    let transform = match t.get("transform") {
+        Some(v) => {
+            let tr = shape::transform(&v)?;
+            let m = glam::Mat3::from_mat4(tr.m);
+            let orthonormal = (m.transpose() * m).abs_diff_eq(glam::Mat3::IDENTITY, 1e-4) && m.determinant() > 0.0;
+            if !orthonormal {
+                return Err(v
+                    .error("an environment can only be rotated")
+                    .label("not a rotation"));
+            }
+            tr
+        }
+        None => penumbra_core::Transform::IDENTITY,
+    };
+    Ok(EnvironmentDesc {
+        source,
+        scale,
+        transform,
         location: Some(t.location()),
     })
 }

@@ -256,7 +256,7 @@ fn points(v: &Value) -> Result<Vec<Vec3>> {
 }
 
 /// A `transform`: one step or a list of steps, applied in order.
-fn transform(v: &Value) -> Result<Transform> {
+pub(super) fn transform(v: &Value) -> Result<Transform> {
     let steps = if v.is_table() {
         vec![v.table()?]
     } else {

@@ -388,3 +388,49 @@ fn every_material_type_reads() {
         ]
     );
 }
+
+#[test]
+fn bad_environments_are_errors_naming_the_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let garbage = dir.path().join("sky.exr");
+    std::fs::write(&garbage, b"not an image").unwrap();
+    let odd = dir.path().join("sky.bmp");
+    std::fs::write(&odd, b"BM").unwrap();
+    let missing = dir.path().join("missing.hdr");
+    let env = |rest: &str| format!("[environment]\n{rest}");
+    let cases: Vec<(String, String, usize)> = vec![
+        (env("radiance = 1\nfile = \"a.exr\"\n"), "not both".into(), 3),
+        (env("scale = 2\n"), "needs `file`".into(), 1),
+        (env("radiance = [1, -1, 1]\n"), "must not be negative".into(), 2),
+        (
+            env("radiance = 1\ntransform = { scale = 2 }\n"),
+            "can only be rotated".into(),
+            3,
+        ),
+        (
+            format!("[world]\nbackground = 1\n\n{}", env("radiance = 1\n")),
+            "remove `background`".into(),
+            4,
+        ),
+        (
+            env(&format!("file = \"{}\"\n", missing.display())),
+            format!("cannot read the environment map {}", missing.display()),
+            1,
+        ),
+        (
+            env(&format!("file = \"{}\"\n", garbage.display())),
+            format!("{}: not a readable OpenEXR image", garbage.display()),
+            1,
+        ),
+        (
+            env(&format!("file = \"{}\"\n", odd.display())),
+            "unsupported image format".into(),
+            1,
+        ),
+    ];
+    for (text, message, line) in &cases {
+        let (e, at) = error_of(text);
+        assert!(e.contains(message.as_str()), "{text}: `{e}` does not say `{message}`");
+        assert_eq!(at, Some(*line), "{text}: {e}");
+    }
+}
