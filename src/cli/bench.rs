@@ -111,7 +111,9 @@ pub fn run(command: BenchCommand) -> Result<(), Failure> {
                 let rays = (0..w as u64 * h as u64)
                     .map(|i| {
                         let (x, y) = ((i % w as u64) as f32, (i / w as u64) as f32);
-                        scene.camera.generate_ray(glam::Vec2::new(x + 0.5, y + 0.5))
+                        scene
+                            .camera
+                            .generate_ray(glam::Vec2::new(x + 0.5, y + 0.5), glam::Vec2::splat(0.5))
                     })
                     .collect();
                 (w, h, rays)

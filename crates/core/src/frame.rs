@@ -22,6 +22,15 @@ impl Frame {
         Frame { s, t, n }
     }
 
+    /// A frame around the unit vector `n` whose first axis is the tangent `t` made
+    /// orthogonal to `n` (Gram-Schmidt); [`Frame::from_normal`] when `t` is zero or along `n`.
+    pub fn from_normal_tangent(n: Vec3, t: Vec3) -> Self {
+        match (t - n * n.dot(t)).try_normalize() {
+            Some(s) => Frame { s, t: n.cross(s), n },
+            None => Frame::from_normal(n),
+        }
+    }
+
     pub fn to_local(&self, v: Vec3) -> Vec3 {
         Vec3::new(v.dot(self.s), v.dot(self.t), v.dot(self.n))
     }

@@ -137,12 +137,13 @@ impl Geometry {
             let mesh = self.pooled_starts.partition_point(|&start| start <= pooled) - 1;
             let tri = pooled - self.pooled_starts[mesh];
             let (mesh, object) = &self.meshes[mesh];
-            let (p, ng, ns, uv) = triangle_surface(mesh, tri, hit.uv);
+            let (p, ng, ns, uv, dpdu) = triangle_surface(mesh, tri, hit.uv);
             return SurfaceHit {
                 p,
                 ng,
                 ns,
                 uv,
+                dpdu,
                 object: *object,
                 triangle: tri,
             };
@@ -156,18 +157,20 @@ impl Geometry {
                     ng: surf.n,
                     ns: surf.n,
                     uv: surf.uv,
+                    dpdu: surf.dpdu,
                     object: *object,
                     triangle: 0,
                 }
             }
             Prim::Instance(i) => {
                 let (instance, object) = &self.instances[i as usize];
-                let (p, ng, ns, uv) = instance.surface(hit.sub, hit.uv);
+                let (p, ng, ns, uv, dpdu) = instance.surface(hit.sub, hit.uv);
                 SurfaceHit {
                     p,
                     ng,
                     ns,
                     uv,
+                    dpdu,
                     object: *object,
                     triangle: hit.sub,
                 }

@@ -25,6 +25,9 @@ pub struct SurfaceHit {
     pub ns: Vec3,
     /// Texture coordinates.
     pub uv: Vec2,
+    /// ∂p/∂u: the direction in which u grows (not normalised; zero where undefined). The
+    /// shading frame's tangent, for anisotropic materials and normal maps.
+    pub dpdu: Vec3,
     /// The scene object (shape, mesh or instance) that was hit, as numbered by the builder.
     pub object: u32,
     /// The triangle within the object for meshes and instances; 0 for analytic shapes.

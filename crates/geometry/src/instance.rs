@@ -197,21 +197,28 @@ impl Instance {
         self.mesh.accel.occluded(&self.placement.ray_to_object(ray), t_max)
     }
 
-    /// World-space position, geometric and shading normals and texture coordinates.
-    pub fn surface(&self, tri: u32, b: Vec2) -> (Vec3, Vec3, Vec3, Vec2) {
-        let (p, ng, ns, uv) = triangle_surface(&self.mesh.mesh, tri, b);
+    /// World-space position, geometric and shading normals, texture coordinates and ∂p/∂u.
+    pub fn surface(&self, tri: u32, b: Vec2) -> (Vec3, Vec3, Vec3, Vec2, Vec3) {
+        let (p, ng, ns, uv, dpdu) = triangle_surface(&self.mesh.mesh, tri, b);
         // The inverse transpose keeps normals on the same side, mirrors included.
         let ng = self.placement.normal_to_world(ng);
         let ns = self.placement.normal_to_world(ns);
         let ns = if ns.dot(ng) < 0.0 { -ns } else { ns };
-        (self.placement.point_to_world(p), ng, ns, uv)
+        (
+            self.placement.point_to_world(p),
+            ng,
+            ns,
+            uv,
+            self.placement.vector_to_world(dpdu),
+        )
     }
 }
 
 /// The surface of triangle `tri` at barycentrics `b = (b1, b2)`: position, geometric
 /// normal (flipped to the side of the shading normal when the mesh has normals), shading
-/// normal and texture coordinates (the barycentrics when the mesh has none).
-pub(crate) fn triangle_surface(mesh: &TriangleMesh, tri: u32, b: Vec2) -> (Vec3, Vec3, Vec3, Vec2) {
+/// normal, texture coordinates (the barycentrics when the mesh has none) and ∂p/∂u (from
+/// the texture coordinates, pbrt-v4 eq. 6.7; the first edge when they are degenerate).
+pub(crate) fn triangle_surface(mesh: &TriangleMesh, tri: u32, b: Vec2) -> (Vec3, Vec3, Vec3, Vec2, Vec3) {
     let idx = mesh.indices[tri as usize];
     let [p0, p1, p2] = mesh.vertices(tri as usize);
     let b0 = 1.0 - b.x - b.y;
@@ -232,9 +239,19 @@ pub(crate) fn triangle_surface(mesh: &TriangleMesh, tri: u32, b: Vec2) -> (Vec3,
         }
         None => ng,
     };
-    let uv = match &mesh.uvs {
-        Some(uvs) => b0 * uvs[idx[0] as usize] + b.x * uvs[idx[1] as usize] + b.y * uvs[idx[2] as usize],
-        None => b,
+    let (uv, dpdu) = match &mesh.uvs {
+        Some(uvs) => {
+            let [t0, t1, t2] = idx.map(|i| uvs[i as usize]);
+            let (d1, d2) = (t1 - t0, t2 - t0);
+            let det = d1.x * d2.y - d1.y * d2.x;
+            let dpdu = if det.abs() > 1e-12 {
+                ((p1 - p0) * d2.y - (p2 - p0) * d1.y) / det
+            } else {
+                p1 - p0
+            };
+            (b0 * t0 + b.x * t1 + b.y * t2, dpdu)
+        }
+        None => (b, p1 - p0),
     };
-    (p, ng, ns, uv)
+    (p, ng, ns, uv, dpdu)
 }

@@ -35,6 +35,11 @@ impl Placement {
         self.to_world.transform_point3(p)
     }
 
+    /// A world-space vector from an object-space vector.
+    pub fn vector_to_world(&self, v: Vec3) -> Vec3 {
+        self.to_world.transform_vector3(v)
+    }
+
     /// A world-space unit normal from an object-space normal.
     pub fn normal_to_world(&self, n: Vec3) -> Vec3 {
         Vec3::from(self.normal * glam::Vec3A::from(n)).normalize()

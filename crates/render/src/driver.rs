@@ -155,6 +155,7 @@ fn render_tile(
     let margin = if splat { (radius - 0.5).ceil() as u32 } else { 0 };
     let stride = tile.size.x + 2 * margin;
     let table = splat.then(|| FilterTable::new(&scene.filter));
+    let lens = scene.camera.has_lens();
     // The filter's weights for the columns a sample reaches, worked out once per sample.
     let mut column_weights = Vec::with_capacity(2 * margin as usize + 2);
     let mut pixels = vec![Pixel::default(); (stride * (tile.size.y + 2 * margin)) as usize];
@@ -172,7 +173,8 @@ fn render_tile(
                     let (offset, weight) = filter.sample(u);
                     (pixel.as_vec2() + Vec2::splat(0.5) + offset, weight)
                 };
-                let ray = scene.camera.generate_ray(film_pos);
+                let u_lens = if lens { sampler.next_2d() } else { Vec2::ZERO };
+                let ray = scene.camera.generate_ray(film_pos, u_lens);
                 rays.camera += 1;
                 let l = integrator.li(scene, &ray, &mut sampler, &mut rays);
                 let own = ((y + margin) * stride + x + margin) as usize;

@@ -101,8 +101,16 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         )
     })?;
     let camera = match c.kind {
-        CameraKind::Perspective { fov, fov_axis } => {
-            Camera::Perspective(Perspective::new(to_world, fov, fov_axis, r.width, r.height))
+        CameraKind::Perspective {
+            fov,
+            fov_axis,
+            aperture_radius,
+            focus_distance,
+        } => {
+            let focus = focus_distance.unwrap_or_else(|| (c.target - c.position).length());
+            Camera::Perspective(
+                Perspective::new(to_world, fov, fov_axis, r.width, r.height).with_lens(aperture_radius, focus),
+            )
         }
         CameraKind::Orthographic { height } => {
             Camera::Orthographic(Orthographic::new(to_world, height, r.width, r.height))

@@ -73,8 +73,17 @@ pub struct CameraDesc {
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum CameraKind {
-    Perspective { fov: f32, fov_axis: FovAxis },
-    Orthographic { height: f32 },
+    Perspective {
+        fov: f32,
+        fov_axis: FovAxis,
+        /// Thin-lens radius; 0 for a pinhole.
+        aperture_radius: f32,
+        /// Distance of the plane in focus; `None`: the target's.
+        focus_distance: Option<f32>,
+    },
+    Orthographic {
+        height: f32,
+    },
 }
 
 impl Default for CameraDesc {
@@ -83,6 +92,8 @@ impl Default for CameraDesc {
             kind: CameraKind::Perspective {
                 fov: 45.0,
                 fov_axis: FovAxis::Y,
+                aperture_radius: 0.0,
+                focus_distance: None,
             },
             position: Vec3::new(0.0, 0.0, 5.0),
             target: Vec3::ZERO,

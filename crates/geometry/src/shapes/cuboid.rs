@@ -61,10 +61,13 @@ impl Cuboid {
         } else {
             self.local.min[axis]
         };
+        // u runs along z on the x faces, along x on the others.
+        let du = if axis == 0 { Vec3::Z } else { Vec3::X };
         ShapeSurface {
             p: self.placement.point_to_world(p),
             n: self.placement.normal_to_world(n),
             uv,
+            dpdu: self.placement.vector_to_world(du),
         }
     }
 }

@@ -55,6 +55,7 @@ impl Disk {
             p: self.center + xy.x * self.axis1 + xy.y * self.axis2,
             n: self.n,
             uv: 0.5 * (xy + Vec2::ONE),
+            dpdu: self.axis1,
         }
     }
 }

@@ -31,6 +31,8 @@ pub struct ShapeSurface {
     pub p: Vec3,
     pub n: Vec3,
     pub uv: Vec2,
+    /// ∂p/∂u, the direction of increasing u (not normalised; zero where undefined).
+    pub dpdu: Vec3,
 }
 
 /// Every analytic shape the renderer knows.

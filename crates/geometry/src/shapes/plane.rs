@@ -36,6 +36,7 @@ impl Plane {
             p,
             n: self.frame.n,
             uv: Vec2::new(d.dot(self.frame.s), d.dot(self.frame.t)),
+            dpdu: self.frame.s,
         }
     }
 }

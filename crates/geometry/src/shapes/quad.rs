@@ -46,6 +46,7 @@ impl Quad {
             p: self.corner + ab.x * self.edge1 + ab.y * self.edge2,
             n: self.n,
             uv: ab,
+            dpdu: self.edge1,
         }
     }
 }

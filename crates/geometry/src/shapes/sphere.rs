@@ -69,6 +69,8 @@ impl Sphere {
             p: self.placement.point_to_world(local),
             n: self.placement.normal_to_world(local),
             uv: Vec2::new(phi / (2.0 * PI), theta / PI),
+            // ∂p/∂φ of (cos φ sin θ, cos θ, sin φ sin θ).
+            dpdu: self.placement.vector_to_world(Vec3::new(-local.z, 0.0, local.x)),
         }
     }
 }

@@ -20,11 +20,17 @@ pub enum Camera {
 
 impl Camera {
     /// The ray through film position `film` (pixels; (0, 0) is the top-left corner of the
-    /// image, (width, height) the bottom-right). Directions are unit length.
-    pub fn generate_ray(&self, film: Vec2) -> Ray {
+    /// image, (width, height) the bottom-right), leaving a thin lens at the point `u_lens`
+    /// picks (ignored by pinholes). Directions are unit length.
+    pub fn generate_ray(&self, film: Vec2, u_lens: Vec2) -> Ray {
         match self {
-            Camera::Perspective(c) => c.generate_ray(film),
+            Camera::Perspective(c) => c.generate_ray(film, u_lens),
             Camera::Orthographic(c) => c.generate_ray(film),
         }
+    }
+
+    /// Whether rays need a lens sample.
+    pub fn has_lens(&self) -> bool {
+        matches!(self, Camera::Perspective(c) if c.has_lens())
     }
 }

@@ -29,7 +29,7 @@ pub(super) struct Shading<'a> {
 
 impl<'a> Shading<'a> {
     pub fn new(it: &'a Interaction<'a>) -> Self {
-        let frame = Frame::from_normal(it.surface.ns);
+        let frame = it.material.shading_frame(&it.surface);
         let ng = if it.surface.ng.dot(it.wo) < 0.0 {
             -it.surface.ng
         } else {

@@ -72,8 +72,7 @@ impl Environment {
                 (p.luminance() * scale.luminance()).max(0.0) * theta.sin()
             })
             .collect();
-        let distribution =
-            Distribution2D::new(&weights, w, h).ok_or("the map is black: it gives no light")?;
+        let distribution = Distribution2D::new(&weights, w, h).ok_or("the map is black: it gives no light")?;
         let mean_luminance = (solid_angle_integral(&image, |p| p.luminance() as f64) * scale.luminance() as f64
             / (4.0 * PI as f64)) as f32;
         Ok(Environment {
@@ -216,14 +215,27 @@ mod tests {
             let mut mean = penumbra_testkit::MeanEstimate::default();
             for _ in 0..20_000 {
                 let s = env.sample_li(u.next_vec2()).unwrap();
-                assert!((env.pdf(s.wi) - s.pdf).abs() <= 1e-3 * s.pdf, "{} vs {}", env.pdf(s.wi), s.pdf);
+                assert!(
+                    (env.pdf(s.wi) - s.pdf).abs() <= 1e-3 * s.pdf,
+                    "{} vs {}",
+                    env.pdf(s.wi),
+                    s.pdf
+                );
                 mean.push((s.li.luminance() / s.pdf) as f64);
             }
             let want = match &env.image {
-                Some((image, _)) => solid_angle_integral(image, |p| p.luminance() as f64) * env.scale.luminance() as f64,
+                Some((image, _)) => {
+                    solid_angle_integral(image, |p| p.luminance() as f64) * env.scale.luminance() as f64
+                }
                 None => 4.0 * PI as f64 * 0.7,
             };
-            penumbra_testkit::assert_within_3se(&format!("environment {seed}"), mean.mean(), mean.standard_error(), want, 1e-3 * want);
+            penumbra_testkit::assert_within_3se(
+                &format!("environment {seed}"),
+                mean.mean(),
+                mean.standard_error(),
+                want,
+                1e-3 * want,
+            );
         }
     }
 
@@ -245,12 +257,16 @@ mod tests {
     fn bad_maps_are_errors() {
         let mut m = map();
         m.pixels[5] = Rgb::new(f32::NAN, 0.0, 0.0);
-        assert!(Environment::image(m, Rgb::WHITE, Mat3::IDENTITY).unwrap_err().contains("(5, 0)"));
+        assert!(Environment::image(m, Rgb::WHITE, Mat3::IDENTITY)
+            .unwrap_err()
+            .contains("(5, 0)"));
         let black = EnvImage {
             width: 2,
             height: 2,
             pixels: vec![Rgb::BLACK; 4],
         };
-        assert!(Environment::image(black, Rgb::WHITE, Mat3::IDENTITY).unwrap_err().contains("black"));
+        assert!(Environment::image(black, Rgb::WHITE, Mat3::IDENTITY)
+            .unwrap_err()
+            .contains("black"));
     }
 }

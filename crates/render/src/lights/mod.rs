@@ -8,10 +8,10 @@
 
 mod area;
 mod directional;
-pub mod environment;
 pub mod emitter;
 #[cfg(test)]
 mod emitter_tests;
+pub mod environment;
 mod point;
 mod set;
 mod spot;

@@ -14,8 +14,9 @@ use crate::bsdfs::microfacet::Ggx;
 use crate::bsdfs::{Blend, Bsdf, BsdfKind, Conductor, Dielectric, Diffuse, Plastic};
 use crate::optics::fresnel_diffuse_reflectance;
 use crate::Texture;
-use glam::Vec2;
-use penumbra_core::Rgb;
+use glam::{Vec2, Vec3};
+use penumbra_core::{Frame, Rgb};
+use penumbra_geometry::SurfaceHit;
 
 /// GGX roughness α along the tangent and bitangent (equal for an isotropic surface), as
 /// textures (their red channel).
@@ -79,6 +80,10 @@ pub enum Material {
     /// The material on both sides of the surface (the others reflect on the side the
     /// shading normal faces only, except `Phong` and `Dielectric`, which have two sides).
     TwoSided(Box<Material>),
+    /// `inner` with its shading normal taken from a tangent-space normal map: the texel
+    /// (r, g, b), linear, is the normal 2 (r, g, b) − 1 in the frame of the tangent ∂p/∂u,
+    /// the bitangent and the surface's shading normal (Mitsuba's `normalmap`).
+    NormalMapped { map: Texture, inner: Box<Material> },
 }
 
 impl Material {
@@ -90,6 +95,22 @@ impl Material {
             eta,
             fdr_int: fresnel_diffuse_reflectance(1.0 / eta),
             roughness,
+        }
+    }
+
+    /// The shading frame at `s`: the shading normal with the tangent ∂p/∂u, or the normal
+    /// a normal map gives (ignored where it would face away from the geometric normal's
+    /// side of the shading normal).
+    pub fn shading_frame(&self, s: &SurfaceHit) -> Frame {
+        let frame = Frame::from_normal_tangent(s.ns, s.dpdu);
+        let Material::NormalMapped { map, .. } = self else {
+            return frame;
+        };
+        let c = map.eval(s.uv);
+        let local = Vec3::new(2.0 * c.r - 1.0, 2.0 * c.g - 1.0, 2.0 * c.b - 1.0);
+        match frame.to_world(local).try_normalize() {
+            Some(n) if local.z > 0.0 => Frame::from_normal_tangent(n, frame.s),
+            _ => frame,
         }
     }
 
@@ -152,6 +173,7 @@ impl Material {
                 weight: weight.eval(uv).r.clamp(0.0, 1.0),
                 uv,
             }),
+            Material::NormalMapped { inner, .. } => return inner.bsdf(uv),
             Material::TwoSided(inner) => {
                 return Bsdf {
                     two_sided: true,
@@ -160,5 +182,51 @@ impl Material {
             }
         };
         Bsdf::one_sided(kind)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn surface() -> SurfaceHit {
+        SurfaceHit {
+            p: Vec3::ZERO,
+            ng: Vec3::Z,
+            ns: Vec3::Z,
+            uv: Vec2::ZERO,
+            dpdu: Vec3::new(3.0, 0.0, 0.5),
+            object: 0,
+            triangle: 0,
+        }
+    }
+
+    #[test]
+    fn the_shading_frame_follows_the_tangent_and_the_normal_map() {
+        let plain = Material::Diffuse {
+            reflectance: Texture::Constant(Rgb::splat(0.5)),
+        };
+        let f = plain.shading_frame(&surface());
+        assert!((f.s - Vec3::X).length() < 1e-6 && f.n == Vec3::Z && (f.t - Vec3::Y).length() < 1e-6);
+        // A map encoding the normal tilted 30 degrees towards the tangent.
+        let a = 30f32.to_radians();
+        let encode = |n: Vec3| Rgb::new(0.5 * n.x + 0.5, 0.5 * n.y + 0.5, 0.5 * n.z + 0.5);
+        let mapped = |n: Vec3| Material::NormalMapped {
+            map: Texture::Constant(encode(n)),
+            inner: Box::new(plain.clone()),
+        };
+        let tilted = Vec3::new(a.sin(), 0.0, a.cos());
+        let f = mapped(tilted).shading_frame(&surface());
+        assert!((f.n - tilted).length() < 1e-5, "{}", f.n);
+        assert!(
+            f.s.dot(f.n).abs() < 1e-6 && f.s.y.abs() < 1e-6 && f.s.x > 0.0,
+            "{}",
+            f.s
+        );
+        // A texel pointing below the surface is ignored.
+        let f = mapped(Vec3::new(0.0, 0.6, -0.8)).shading_frame(&surface());
+        assert_eq!(f.n, Vec3::Z);
+        // The BSDF is the inner material's.
+        assert!(matches!(mapped(tilted).bsdf(Vec2::ZERO).kind, BsdfKind::Diffuse(_)));
     }
 }

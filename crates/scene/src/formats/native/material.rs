@@ -12,14 +12,17 @@
 //! - `blend`: `a` and `b`, names of materials defined above, and `weight` of `b` (0.5).
 //!
 //! Every type but `phong` and `dielectric` takes `two_sided` (default true): false makes
-//! the back of the surface black, as Mitsuba's BSDFs without `twosided`.
+//! the back of the surface black, as Mitsuba's BSDFs without `twosided`. Every type takes
+//! `normal_map`, an image file of tangent-space normals.
 
 use super::choice;
 use crate::desc::MaterialDesc;
 use crate::params::{Result, Table, Value};
 use penumbra_core::Rgb;
 use penumbra_render::materials::{metal_ior, Phong, Roughness, METALS};
+use penumbra_render::texture::TextureImage;
 use penumbra_render::{Material, Texture};
+use std::sync::Arc;
 
 const TYPES: [&str; 6] = ["phong", "diffuse", "conductor", "dielectric", "plastic", "blend"];
 
@@ -67,6 +70,13 @@ pub fn read_all(tables: &[Table]) -> Result<Vec<MaterialDesc>> {
                 }
             }
         };
+        let material = match t.get("normal_map") {
+            Some(v) => Material::NormalMapped {
+                map: image_texture_file(&v, v.str()?, 1.0, false)?,
+                inner: Box::new(material),
+            },
+            None => material,
+        };
         t.finish()?;
         out.push(MaterialDesc { name, material });
     }
@@ -83,7 +93,7 @@ fn read_phong(t: &Table) -> Result<Phong> {
     }
     Ok(Phong {
         diffuse: match t.get("diffuse") {
-            Some(v) => texture(&v)?,
+            Some(v) => texture(&v, false)?,
             None => d.diffuse,
         },
         specular: t.rgb_or("specular", d.specular)?,
@@ -143,7 +153,10 @@ fn read_blend(t: &Table, defined: &[MaterialDesc]) -> Result<Material> {
                     .label("unknown material")
             })
     };
-    let weight = texture_or(t, "weight", 0.5)?;
+    let weight = match t.get("weight") {
+        Some(v) if !v.is_number() => texture(&v, true)?,
+        _ => texture_or(t, "weight", 0.5)?,
+    };
     check_range(t, "weight", &weight)?;
     Ok(Material::Blend {
         a: part("a")?,
@@ -160,7 +173,7 @@ fn roughness(t: &Table, anisotropic: bool) -> Result<Option<Roughness>> {
         let tex = if v.is_number() {
             Texture::Constant(Rgb::splat(v.f32()?))
         } else {
-            texture(&v)?
+            texture(&v, true)?
         };
         check_range(t, key, &tex)?;
         Ok(Some(tex))
@@ -203,25 +216,69 @@ fn check_range(t: &Table, key: &str, tex: &Texture) -> Result<()> {
 fn texture_or(t: &Table, key: &str, default: f32) -> Result<Texture> {
     match t.get(key) {
         Some(v) if v.is_number() => Ok(Texture::Constant(Rgb::splat(v.f32()?))),
-        Some(v) => texture(&v),
+        Some(v) => texture(&v, false),
         None => Ok(Texture::Constant(Rgb::splat(default))),
     }
 }
 
-/// A colour, or a texture table `{ type = "checker", even, odd, size }`.
-fn texture(v: &Value) -> Result<Texture> {
+/// A colour, or a texture table: `{ type = "checker", even, odd, size }` or
+/// `{ type = "image", file, scale, srgb }`. `data` textures (roughness, weights, normals)
+/// read 8-bit images as they are; colour textures decode them from sRGB, unless `srgb`
+/// says otherwise.
+fn texture(v: &Value, data: bool) -> Result<Texture> {
     if !v.is_table() {
         return Ok(Texture::Constant(v.rgb()?));
     }
     let t = v.table()?;
-    choice(&t.require("type")?, "texture type", &["checker"], |s| {
-        (s == "checker").then_some(())
+    let kind = choice(&t.require("type")?, "texture type", &["checker", "image"], |s| {
+        ["checker", "image"].contains(&s).then(|| s.to_string())
     })?;
-    let tex = Texture::Checker {
-        even: t.rgb_or("even", Rgb::WHITE)?,
-        odd: t.rgb_or("odd", Rgb::BLACK)?,
-        size: t.positive_or("size", 0.125)?,
+    let tex = if kind == "checker" {
+        Texture::Checker {
+            even: t.rgb_or("even", Rgb::WHITE)?,
+            odd: t.rgb_or("odd", Rgb::BLACK)?,
+            size: t.positive_or("size", 0.125)?,
+        }
+    } else {
+        let file = t.require("file")?;
+        let srgb = t.get("srgb").map_or(Ok(!data), |v| v.bool())?;
+        image_texture_file(&file, file.str()?, t.positive_or("scale", 1.0)?, srgb)?
     };
     t.finish()?;
     Ok(tex)
+}
+
+/// The image texture in file `name` (relative to the scene's folder), repeated every
+/// 1/`scale` texture units; an error at `at` naming the file when it cannot be read.
+fn image_texture_file(at: &Value, name: &str, scale: f32, srgb: bool) -> Result<Texture> {
+    let location = at.location();
+    let path = location
+        .file
+        .path
+        .parent()
+        .unwrap_or(std::path::Path::new("."))
+        .join(name);
+    let image = crate::image_io::read_input_image(&path, srgb).map_err(|e| {
+        at.error(format!("cannot read the texture {}: {e}", path.display()))
+            .label("this texture")
+    })?;
+    if image.width == 0 || image.height == 0 {
+        return Err(at.error(format!("the texture {} is empty", path.display())));
+    }
+    if let Some(i) = image.pixels.iter().position(|p| !p.is_finite()) {
+        return Err(at.error(format!(
+            "the texture {} has a pixel that is not a finite number at ({}, {})",
+            path.display(),
+            i % image.width as usize,
+            i / image.width as usize
+        )));
+    }
+    Ok(Texture::Image {
+        image: Arc::new(TextureImage {
+            width: image.width as usize,
+            height: image.height as usize,
+            pixels: image.pixels,
+        }),
+        scale,
+    })
 }

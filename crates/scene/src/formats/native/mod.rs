@@ -268,7 +268,23 @@ fn read_camera(t: &Table) -> Result<CameraDesc> {
                 })?,
                 None => FovAxis::Y,
             };
-            CameraKind::Perspective { fov, fov_axis }
+            let aperture_radius = t.get("aperture_radius").map_or(Ok(0.0), |v| {
+                let r = v.f32()?;
+                if r < 0.0 {
+                    return Err(v.error("`aperture_radius` must not be negative").label("negative"));
+                }
+                Ok(r)
+            })?;
+            let focus_distance = match t.get("focus_distance") {
+                Some(v) => Some(v.positive()?),
+                None => None,
+            };
+            CameraKind::Perspective {
+                fov,
+                fov_axis,
+                aperture_radius,
+                focus_distance,
+            }
         }
     };
     let forward = target - position;
@@ -316,9 +332,7 @@ fn read_environment(t: &Table) -> Result<EnvironmentDesc> {
             let m = glam::Mat3::from_mat4(tr.m);
             let orthonormal = (m.transpose() * m).abs_diff_eq(glam::Mat3::IDENTITY, 1e-4) && m.determinant() > 0.0;
             if !orthonormal {
-                return Err(v
-                    .error("an environment can only be rotated")
-                    .label("not a rotation"));
+                return Err(v.error("an environment can only be rotated").label("not a rotation"));
             }
             tr
         }

@@ -434,3 +434,105 @@ fn bad_environments_are_errors_naming_the_file_and_line() {
         assert_eq!(at, Some(*line), "{text}: {e}");
     }
 }
+
+/// A scene text `text` in a temporary folder beside the image `name` of `pixels` (8-bit RGB).
+fn with_image(
+    name: &str,
+    width: u32,
+    pixels: Vec<u8>,
+    text: &str,
+) -> (
+    tempfile::TempDir,
+    std::result::Result<crate::SceneDesc, crate::SceneError>,
+) {
+    let dir = tempfile::tempdir().unwrap();
+    let height = pixels.len() as u32 / (3 * width);
+    image::RgbImage::from_raw(width, height, pixels)
+        .unwrap()
+        .save(dir.path().join(name))
+        .unwrap();
+    let path = dir.path().join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    let desc = crate::read_scene(&path);
+    (dir, desc)
+}
+
+#[test]
+fn image_textures_decode_srgb_for_colours_only() {
+    // Pixel values 0, 128, 255: colours are sRGB-decoded (128 -> 0.2158), roughness is not.
+    let text = "[[material]]\nname = \"c\"\ntype = \"diffuse\"\nreflectance = { type = \"image\", file = \"t.png\" }\n\n\
+                [[material]]\nname = \"r\"\ntype = \"conductor\"\nroughness = { type = \"image\", file = \"t.png\", scale = 2 }\n";
+    let (_dir, desc) = with_image("t.png", 1, vec![0, 128, 255], text);
+    let desc = desc.unwrap();
+    let texel = |m: &Material| -> (Rgb, f32) {
+        let tex = match m {
+            Material::TwoSided(inner) => match &**inner {
+                Material::Diffuse { reflectance } => reflectance.clone(),
+                Material::Conductor { roughness, .. } => roughness.as_ref().unwrap().alpha_u.clone(),
+                other => panic!("{other:?}"),
+            },
+            other => panic!("{other:?}"),
+        };
+        let Texture::Image { image, scale } = tex else {
+            panic!("not an image")
+        };
+        (image.pixels[0], scale)
+    };
+    let (c, scale) = texel(&desc.materials[0].material);
+    assert_eq!(scale, 1.0);
+    assert!(
+        c.r == 0.0 && (c.g - 0.2158).abs() < 1e-3 && (c.b - 1.0).abs() < 1e-6,
+        "{c:?}"
+    );
+    let (r, scale) = texel(&desc.materials[1].material);
+    assert_eq!(scale, 2.0);
+    assert!((r.g - 128.0 / 255.0).abs() < 1e-6, "{r:?}");
+}
+
+#[test]
+fn bad_textures_are_errors_naming_the_file_and_line() {
+    let m = "[[material]]\nname = \"m\"\ntype = \"diffuse\"\n";
+    let cases = [
+        (
+            format!("{m}reflectance = {{ type = \"image\", file = \"missing.png\" }}\n"),
+            "cannot read the texture",
+            "missing.png",
+            4,
+        ),
+        (
+            format!("{m}reflectance = {{ type = \"image\", file = \"t.gif\" }}\n"),
+            "unsupported image format",
+            "t.gif",
+            4,
+        ),
+        (
+            format!("{m}reflectance = {{ type = \"image\", file = \"broken.png\" }}\n"),
+            "cannot decode it",
+            "broken.png",
+            4,
+        ),
+        (
+            format!("{m}normal_map = \"broken.png\"\n"),
+            "cannot read the texture",
+            "broken.png",
+            4,
+        ),
+    ];
+    for (text, message, file, line) in cases {
+        let (dir, desc) = with_image("t.png", 1, vec![0, 128, 255], &text);
+        std::fs::write(dir.path().join("broken.png"), b"\x89PNG\r\n\x1a\nbroken").unwrap();
+        std::fs::write(dir.path().join("t.gif"), b"GIF89a").unwrap();
+        // Read again now that the broken files exist.
+        let desc = match desc {
+            Err(_) | Ok(_) => crate::read_scene(&dir.path().join("scene.toml")),
+        };
+        let e = desc.expect_err(&text);
+        let shown = format!("{e}");
+        assert!(shown.contains(message) && shown.contains(file), "{text}: `{shown}`");
+        assert_eq!(
+            e.location().map(|l| l.file.line_col(l.span.start).0),
+            Some(line),
+            "{text}: {shown}"
+        );
+    }
+}
