@@ -101,7 +101,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         intensity: Rgb::splat(80.0),
     });
 
-    let result = penumbra::render(&scene, &Default::default())?;
+    let result = penumbra::render(&scene, Default::default())?;
     let film = &result.film;
     let pixels = film.image();
     let path = Path::new("example.png");

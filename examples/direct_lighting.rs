@@ -38,7 +38,7 @@ fn render(desc: &SceneDesc, sampling: LightSampling, light_samples: u32, spp: u3
     };
     d.render.spp = spp;
     let start = Instant::now();
-    let r = penumbra::render(&d, &RenderControl::default()).expect("renders");
+    let r = penumbra::render(&d, RenderControl::default()).expect("renders");
     Frame {
         pixels: r.film.image(),
         width: r.film.width,

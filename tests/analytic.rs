@@ -79,7 +79,7 @@ fn diffuse_plane_under_a_point_light() {
         position: Vec3::new(0.3, h, -0.2),
         intensity: Rgb::splat(intensity),
     });
-    let film = penumbra::render(&d, &Default::default()).unwrap().film;
+    let film = penumbra::render(&d, Default::default()).unwrap().film;
     let mut worst = 0.0f32;
     for y in 0..res {
         for x in 0..res {
@@ -117,7 +117,7 @@ fn diffuse_sphere_under_a_point_light_has_no_shadow_acne() {
         position: light,
         intensity: Rgb::splat(intensity),
     });
-    let film = penumbra::render(&d, &Default::default()).unwrap().film;
+    let film = penumbra::render(&d, Default::default()).unwrap().film;
     let mut checked = 0;
     for y in 0..res {
         for x in 0..res {
@@ -168,7 +168,7 @@ fn pixels_average_their_footprint() {
         checker,
     );
     d.ambient = Rgb::WHITE;
-    let film = penumbra::render(&d, &Default::default()).unwrap().film;
+    let film = penumbra::render(&d, Default::default()).unwrap().film;
     // Plane texture coordinates run along the plane's own frame; find the column where the
     // value is strictly between black and white: it must be close to one half.
     let row: Vec<f32> = (0..res).map(|x| film.pixel(x, 3).value().r).collect();
@@ -208,7 +208,7 @@ fn mirror_reflects_a_lit_ceiling() {
         position: Vec3::new(0.0, 1.0, 0.0),
         intensity: Rgb::splat(intensity),
     });
-    let render = |d: &SceneDesc| penumbra::render(d, &Default::default()).unwrap().film;
+    let render = |d: &SceneDesc| penumbra::render(d, Default::default()).unwrap().film;
     let film = render(&d);
     for (x, y) in [(0, 0), (3, 9), (8, 8), (15, 2)] {
         let (px, pz) = pixel_point(x, y, res);
@@ -254,7 +254,7 @@ fn glass_slab_at_normal_incidence_transmits_one_minus_f_over_one_plus_f() {
         },
         diffuse(1.0),
     );
-    let film = penumbra::render(&d, &Default::default()).unwrap().film;
+    let film = penumbra::render(&d, Default::default()).unwrap().film;
     let expected = (1.0 - 0.04) / (1.0 + 0.04);
     for (x, y) in [(0, 0), (4, 4), (7, 2)] {
         let got = film.pixel(x, y).value().r;
@@ -293,7 +293,7 @@ fn glass_in_a_uniform_background_conserves_energy() {
     d.shapes[1].transform = Transform::rotate(Vec3::new(1.0, 1.0, 0.0), 30.0)
         .unwrap()
         .then(Transform::translate(Vec3::X));
-    let film = penumbra::render(&d, &Default::default()).unwrap().film;
+    let film = penumbra::render(&d, Default::default()).unwrap().film;
     for y in 0..32 {
         for x in 0..48 {
             let got = film.pixel(x, y).value();

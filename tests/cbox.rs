@@ -31,7 +31,7 @@ fn relative_mse_against_mitsuba_falls_like_one_over_spp() {
     for spp in [16u32, 64, 256, 1024] {
         desc.render.spp = spp;
         desc.render.seed = spp as u64;
-        let result = penumbra::render(&desc, &penumbra::RenderControl::default()).unwrap();
+        let result = penumbra::render(&desc, penumbra::RenderControl::default()).unwrap();
         assert_eq!(
             (result.film.width, result.film.height),
             (reference.width, reference.height)

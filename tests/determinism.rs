@@ -35,10 +35,12 @@ fn render_desc(desc: &SceneDesc, threads: usize, tile_size: u32, seed: u64) -> F
         seed,
         tile_size,
         sampler: desc.render.sampler,
+        ..RenderOptions::default()
     };
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     let cancel = std::sync::atomic::AtomicBool::new(false);
-    pool.install(|| render(&scene, integrator.as_ref(), &options, &(), &cancel))
+    let film = Film::new(scene.width, scene.height, false);
+    pool.install(|| render(&scene, integrator.as_ref(), &options, film, &(), &cancel, &mut |_| {}))
         .film
 }
 
@@ -92,7 +94,8 @@ fn the_film_refuses_nan_and_infinite_samples_and_counts_them() {
         ..RenderOptions::default()
     };
     let cancel = std::sync::atomic::AtomicBool::new(false);
-    let film = render(&scene, &Broken, &options, &(), &cancel).film;
+    let film = Film::new(scene.width, scene.height, false);
+    let film = render(&scene, &Broken, &options, film, &(), &cancel, &mut |_| {}).film;
     let total = 32 * 32 * 8;
     // About 20% of the samples are broken (binomial: 1638 +- 36).
     assert!((1400..1900).contains(&film.rejected), "{} rejected", film.rejected);
@@ -134,7 +137,8 @@ fn splatting_reproduces_a_constant_image_to_the_borders() {
             ..RenderOptions::default()
         };
         let cancel = std::sync::atomic::AtomicBool::new(false);
-        let film = render(&scene, &Constant, &options, &(), &cancel).film;
+        let film = Film::new(scene.width, scene.height, false);
+        let film = render(&scene, &Constant, &options, film, &(), &cancel, &mut |_| {}).film;
         assert_eq!(film.samples(), 37 * 21 * 3);
         for (i, p) in film.image().iter().enumerate() {
             let close = |a: f32, b: f32| (a - b).abs() <= 1e-6 * b;

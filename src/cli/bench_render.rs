@@ -46,7 +46,7 @@ pub fn run(args: RenderBenchArgs) -> Result<(), Failure> {
     for _ in 0..args.repeats {
         let start = Instant::now();
         let result = pool
-            .install(|| penumbra::render(&desc, &penumbra::RenderControl::default()))
+            .install(|| penumbra::render(&desc, penumbra::RenderControl::default()))
             .map_err(|e| Failure::BadInput(e.into()))?;
         times.push(start.elapsed().as_secs_f64());
         rays_per_sample = result.stats.rays.total() as f64 / samples;

@@ -98,6 +98,28 @@ pub struct RenderArgs {
     /// No progress bar and no summary line.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Wall-clock budget in seconds: passes (one sample per pixel each) stop when the next
+    /// would end beyond it, or when --spp is reached, whichever comes first.
+    #[arg(long, value_parser = parse_positive, value_name = "SECONDS")]
+    pub time: Option<f32>,
+    /// Rewrite the output image (and its .state file) every SECONDS while rendering.
+    #[arg(long, value_parser = parse_positive, value_name = "SECONDS")]
+    pub checkpoint: Option<f32>,
+    /// Continue the render saved in OUTPUT.state (same scene and settings) up to --spp,
+    /// ending exactly where an uninterrupted render would.
+    #[arg(long)]
+    pub resume: bool,
+    /// Also write the albedo, shading normal and depth of the first hit as layers of the
+    /// EXR output (albedo.R/G/B, normal.X/Y/Z, depth.Z).
+    #[arg(long)]
+    pub aovs: bool,
+}
+
+fn parse_positive(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if x > 0.0 && x.is_finite() => Ok(x),
+        _ => Err(format!("`{s}` is not a positive number")),
+    }
 }
 
 fn parse_resolution(s: &str) -> Result<(u32, u32), String> {

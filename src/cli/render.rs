@@ -4,13 +4,18 @@ use super::progress::Reporter;
 use super::{Failure, RenderArgs};
 use penumbra::geometry::AccelKind;
 use penumbra::math::SamplerKind;
+use penumbra::renderer::driver::Stop;
+use penumbra::renderer::film::AOV_NAMES;
 use penumbra::renderer::integrators::{IntegratorKind, LightSampling, MisHeuristic};
 use penumbra::renderer::lights::LightSelection;
-use penumbra::scene::image_io::{write_image, Image, ImageFormat};
+use penumbra::renderer::Film;
+use penumbra::scene::image_io::{write_exr_layers, write_image, Image, ImageFormat};
 use penumbra::scene::SceneDesc;
+use penumbra::state::{read_state, state_path, write_state};
 use penumbra::RenderControl;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
 
 fn bad(message: impl Into<String>) -> Failure {
     Failure::BadInput(miette::miette!("{}", message.into()))
@@ -100,72 +105,182 @@ fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) -> Result<(), Failur
     Ok(())
 }
 
+/// FNV-1a, 64 bits: a fingerprint that stays the same across builds and platforms.
+fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
+    for &b in bytes {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    h
+}
+
+/// Of the scene's source and every setting that shapes the image except the sample count.
+fn fingerprint(source: &[u8], desc: &SceneDesc) -> u64 {
+    let mut render = desc.render.clone();
+    render.spp = 0;
+    let settings = format!("{render:?} {:?}", desc.camera.kind);
+    fnv1a(settings.as_bytes(), fnv1a(source, 0xcbf2_9ce4_8422_2325))
+}
+
+/// Whether the sampler's samples depend on the planned sample count.
+fn count_dependent(sampler: SamplerKind) -> bool {
+    matches!(sampler, SamplerKind::Stratified | SamplerKind::Halton)
+}
+
+/// Writes the image (with its AOV layers) and, when `state` is given, the render state.
+fn write_outputs(args: &RenderArgs, film: &Film, state: Option<(u32, u64)>) -> Result<(), String> {
+    let pixels = film.image();
+    let image = Image {
+        width: film.width,
+        height: film.height,
+        pixels: &pixels,
+    };
+    let written = match film.aov_images() {
+        Some(aovs) => {
+            let extra: Vec<(&str, Vec<f32>)> = AOV_NAMES.iter().copied().zip(aovs).collect();
+            write_exr_layers(&args.output, &image, &extra)
+        }
+        None => write_image(&args.output, &image, args.exposure),
+    };
+    written.map_err(|e| format!("cannot write {}: {e}", args.output.display()))?;
+    if let Some((planned, print)) = state {
+        let path = state_path(&args.output);
+        write_state(&path, film, planned, print).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
 pub fn run(args: RenderArgs) -> Result<(), Failure> {
-    if ImageFormat::from_path(&args.output).is_none() {
+    let format = ImageFormat::from_path(&args.output);
+    if format.is_none() {
         return Err(bad(format!(
             "cannot write {}: unknown image format; use one of the extensions .{}",
             args.output.display(),
             ImageFormat::EXTENSIONS.join(", .")
         )));
     }
-    let mut desc = match &args.scene {
-        Some(path) => penumbra::scene::read_scene(path).map_err(|e| Failure::BadInput(e.into()))?,
-        None => penumbra::default_scene(),
+    if args.aovs && format != Some(ImageFormat::Exr) {
+        return Err(bad(format!(
+            "--aovs: AOVs are written as layers of an OpenEXR image; {} is not .exr",
+            args.output.display()
+        )));
+    }
+    let (mut desc, source) = match &args.scene {
+        Some(path) => {
+            let desc = penumbra::scene::read_scene(path).map_err(|e| Failure::BadInput(e.into()))?;
+            let source = std::fs::read(path).unwrap_or_default();
+            (desc, source)
+        }
+        None => (
+            penumbra::default_scene(),
+            penumbra::DEFAULT_SCENE_TOML.as_bytes().to_vec(),
+        ),
     };
     apply_overrides(&mut desc, &args)?;
     for warning in &desc.warnings {
         eprintln!("warning: {warning}");
     }
+    let print = fingerprint(&source, &desc);
+    let state_file = state_path(&args.output);
+
+    // A saved render to continue.
+    let resume = if args.resume {
+        let saved =
+            read_state(&state_file).map_err(|e| bad(format!("--resume: cannot read {}: {e}", state_file.display())))?;
+        if saved.fingerprint != print {
+            return Err(bad(format!(
+                "--resume: {} was rendered from another scene or with other settings; render afresh without --resume",
+                state_file.display()
+            )));
+        }
+        match args.spp {
+            None => desc.render.spp = saved.planned_spp,
+            Some(spp) if spp != saved.planned_spp && count_dependent(desc.render.sampler) => {
+                return Err(bad(format!(
+                    "--resume: the {} sampler's samples depend on the sample count, planned as {}; resume with --spp {} or use the independent or sobol sampler",
+                    SamplerKind::NAMES[desc.render.sampler as usize],
+                    saved.planned_spp,
+                    saved.planned_spp
+                )))
+            }
+            Some(_) => {}
+        }
+        Some(saved.film)
+    } else {
+        None
+    };
+    let done = resume.as_ref().map_or(0, |f| f.samples_per_pixel);
 
     let cancel = Arc::new(AtomicBool::new(false));
     {
         let cancel = cancel.clone();
+        let quiet = args.quiet;
         // A second interrupt ends the process at once.
         let _ = ctrlc::set_handler(move || {
             if cancel.swap(true, Ordering::SeqCst) {
                 std::process::exit(130);
             }
-            eprintln!("\ninterrupted: finishing the tiles in flight and writing what is done (Ctrl-C again to abort)");
+            if !quiet {
+                eprintln!(
+                    "\ninterrupted: finishing the pass in flight and writing what is done (Ctrl-C again to abort)"
+                );
+            }
         });
     }
 
     let r = &desc.render;
-    let reporter = Reporter::new(r.width as u64 * r.height as u64, args.quiet);
+    let pixels = r.width as u64 * r.height as u64;
+    let reporter = Reporter::new(pixels * r.spp.saturating_sub(done) as u64, args.quiet);
     let threads = args.threads.map_or(0, |t| t as usize);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .map_err(|e| Failure::Internal(format!("cannot start worker threads: {e}")))?;
+    let planned = r.spp;
+    let keep_state = args.checkpoint.is_some() || args.resume;
+    // Checkpoints: the image and the state, every `--checkpoint` seconds.
+    let last_checkpoint = Mutex::new(Instant::now());
+    let checkpoint = |film: &Film| {
+        let Some(every) = args.checkpoint else { return };
+        let mut last = last_checkpoint.lock().unwrap_or_else(|e| e.into_inner());
+        if last.elapsed().as_secs_f32() < every {
+            return;
+        }
+        if let Err(e) = write_outputs(&args, film, Some((planned, print))) {
+            eprintln!("warning: checkpoint: {e}");
+        }
+        *last = Instant::now();
+    };
     let control = RenderControl {
         progress: &reporter,
         cancel: &cancel,
+        time_limit: args.time.map(Duration::from_secs_f32),
+        aovs: args.aovs,
+        resume,
+        after_pass: Some(&checkpoint),
     };
     let result = pool
-        .install(|| penumbra::render(&desc, &control))
+        .install(|| penumbra::render(&desc, control))
         .map_err(|e| Failure::BadInput(e.into()))?;
     reporter.finish();
 
     let film = &result.film;
-    let pixels = film.image();
-    write_image(
-        &args.output,
-        &Image {
-            width: film.width,
-            height: film.height,
-            pixels: &pixels,
-        },
-        args.exposure,
-    )
-    .map_err(|e| Failure::Internal(format!("cannot write {}: {e}", args.output.display())))?;
-
     let s = &result.stats;
+    // The state is kept when asked for, or when the render stopped short of its samples.
+    let keep_state = keep_state || s.stop != Stop::Done;
+    write_outputs(&args, film, keep_state.then_some((planned, print))).map_err(Failure::Internal)?;
+    if !keep_state && state_file.exists() {
+        // A finished render leaves no stale state behind.
+        let _ = std::fs::remove_file(&state_file);
+    }
+
     let secs = s.elapsed.as_secs_f64().max(1e-9);
     if !args.quiet {
         eprintln!(
             "rendered {}x{} at {} spp in {:.2} s: {:.2} Msamples/s, {:.2} Mrays/s ({} camera, {} secondary, {} shadow rays){}",
             film.width,
             film.height,
-            r.spp,
+            film.samples_per_pixel,
             secs,
             s.samples as f64 / secs * 1e-6,
             s.rays.total() as f64 / secs * 1e-6,
@@ -174,14 +289,25 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
             s.rays.shadow,
             if film.rejected > 0 { format!(", {} NaN/Inf samples rejected", film.rejected) } else { String::new() }
         );
-    }
-    if s.cancelled {
-        eprintln!(
-            "interrupted: {} of {} pixels rendered; the rest of the image is black",
-            film.samples() / r.spp as u64,
-            film.width as u64 * film.height as u64
-        );
+        match s.stop {
+            Stop::Done if args.time.is_some() => eprintln!(
+                "reached {} spp before the time budget; raise --spp to use the rest",
+                film.samples_per_pixel
+            ),
+            Stop::Done => {}
+            Stop::TimeLimit => eprintln!(
+                "time budget spent at {} of {} spp; continue with --resume",
+                film.samples_per_pixel, planned
+            ),
+            Stop::Cancelled => eprintln!(
+                "interrupted at {} of {} spp; the image has every sample taken, and --resume continues it",
+                film.samples_per_pixel, planned
+            ),
+        }
     }
     println!("wrote {}", args.output.display());
+    if keep_state {
+        println!("wrote {}", state_file.display());
+    }
     Ok(())
 }

@@ -10,28 +10,35 @@
 //! sample in several pixels, which lowers per-pixel variance (by about 1/(4πσ²) for a
 //! Gaussian of standard deviation σ pixels) at the cost of correlated neighbours.
 //!
-//! Each pixel's samples depend only on (seed, pixel, sample index). Each tile accumulates
-//! into its own buffer (with a margin for splats), and the buffers are added into the film
-//! in a fixed tile order, so the image is bit-identical for any thread count and tile
-//! order. A raised cancel flag stops work at tile granularity: the tiles finished so far
-//! are kept.
+//! Rendering is progressive: pass k takes sample k of every pixel. Each pixel's samples
+//! depend only on (seed, pixel, sample index). Within a pass each tile accumulates into its
+//! own buffer (with a margin for splats), and the buffers are added into the film in a
+//! fixed tile order; the film adds the passes in order, in double precision. So the image
+//! is bit-identical for any thread count and tile order, and a render stopped after any
+//! pass and resumed from its film ends exactly where an uninterrupted one does. A raised
+//! cancel flag or a spent time budget stops the render between passes.
 
-use crate::film::Pixel;
+use crate::film::{Pixel, AOV_CHANNELS};
 use crate::filter::{FilterSampler, FilterTable};
 use crate::{Film, Integrator, RayCounts, Scene};
 use glam::{UVec2, Vec2};
-use penumbra_core::{PixelSampler, SamplerKind};
+use penumbra_core::{PixelSampler, Ray, SamplerKind};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderOptions {
+    /// Samples per pixel to reach.
     pub spp: u32,
     pub seed: u64,
     pub sampler: SamplerKind,
     /// Side of the square tiles, in pixels.
     pub tile_size: u32,
+    /// Stop starting passes once the next would end beyond this much time.
+    pub time_limit: Option<Duration>,
+    /// Accumulate the AOVs (albedo, shading normal, depth) too.
+    pub aovs: bool,
 }
 
 impl Default for RenderOptions {
@@ -41,14 +48,16 @@ impl Default for RenderOptions {
             seed: 0,
             sampler: SamplerKind::default(),
             tile_size: 16,
+            time_limit: None,
+            aovs: false,
         }
     }
 }
 
 /// Receives progress reports from the worker threads.
 pub trait Progress: Sync {
-    /// `pixels` more pixels are done, for which `rays` rays were traced.
-    fn advance(&self, pixels: u64, rays: u64);
+    /// `samples` more samples are done, for which `rays` rays were traced.
+    fn advance(&self, samples: u64, rays: u64);
 }
 
 /// A progress sink that ignores reports.
@@ -56,13 +65,24 @@ impl Progress for () {
     fn advance(&self, _: u64, _: u64) {}
 }
 
+/// Why a render stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stop {
+    /// Every pixel has the samples asked for.
+    Done,
+    /// The time budget ran out first.
+    TimeLimit,
+    /// Cancelled (Ctrl-C): the pass in flight was finished.
+    Cancelled,
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderStats {
     pub elapsed: Duration,
+    /// Samples taken in this run (not counting a resumed film's).
     pub samples: u64,
     pub rays: RayCounts,
-    /// True when the render was cancelled before every tile was done.
-    pub cancelled: bool,
+    pub stop: Stop,
 }
 
 pub struct RenderResult {
@@ -76,21 +96,25 @@ struct Tile {
 }
 
 struct TileResult {
-    tile: Tile,
     /// The tile's pixels and a margin of `margin` pixels on every side, row by row.
     pixels: Vec<Pixel>,
-    margin: u32,
+    aovs: Vec<[f32; AOV_CHANNELS]>,
     rejected: u64,
     rays: RayCounts,
 }
 
-/// Renders `scene` with `integrator`, reporting to `progress`, until done or `cancel` is set.
+/// Renders `scene` progressively into `film` (a new one, or a saved one to resume): one
+/// pass per sample index, until every pixel has `options.spp` samples, the time budget is
+/// spent, or `cancel` is raised (checked between passes, so the pass in flight is
+/// finished). `after_pass` sees the film after every pass (for checkpoints).
 pub fn render(
     scene: &Scene,
     integrator: &dyn Integrator,
     options: &RenderOptions,
+    mut film: Film,
     progress: &dyn Progress,
     cancel: &AtomicBool,
+    after_pass: &mut dyn FnMut(&Film),
 ) -> RenderResult {
     let start = Instant::now();
     let filter = FilterSampler::new(scene.filter);
@@ -103,43 +127,99 @@ pub fn render(
             Tile { origin, size }
         })
         .collect();
-    let results: Vec<TileResult> = tiles
-        .into_par_iter()
-        .filter_map(|tile| {
-            if cancel.load(Ordering::Relaxed) {
-                return None;
+    let mut rays = RayCounts::default();
+    let mut passes = 0u32;
+    let stop = loop {
+        if film.samples_per_pixel >= options.spp {
+            break Stop::Done;
+        }
+        if cancel.load(Ordering::Relaxed) {
+            break Stop::Cancelled;
+        }
+        if let Some(limit) = options.time_limit {
+            // Stop when the next pass, as long as the mean one so far, would overrun.
+            let elapsed = start.elapsed();
+            let mean = if passes > 0 { elapsed / passes } else { Duration::ZERO };
+            if passes > 0 && elapsed + mean > limit {
+                break Stop::TimeLimit;
             }
-            let result = render_tile(scene, integrator, options, &filter, tile);
-            progress.advance((result.tile.size.x * result.tile.size.y) as u64, result.rays.total());
-            Some(result)
+        }
+        let index = film.samples_per_pixel;
+        rays.add(&render_pass(
+            scene, integrator, options, &filter, &tiles, index, &mut film, progress,
+        ));
+        passes += 1;
+        after_pass(&film);
+    };
+    let pixels = scene.width as u64 * scene.height as u64;
+    let stats = RenderStats {
+        elapsed: start.elapsed(),
+        samples: passes as u64 * pixels,
+        rays,
+        stop,
+    };
+    RenderResult { film, stats }
+}
+
+/// Sample `index` of every pixel, tile by tile in parallel, added to `film` in tile order.
+#[allow(clippy::too_many_arguments)]
+fn render_pass(
+    scene: &Scene,
+    integrator: &dyn Integrator,
+    options: &RenderOptions,
+    filter: &FilterSampler,
+    tiles: &[Tile],
+    index: u32,
+    film: &mut Film,
+    progress: &dyn Progress,
+) -> RayCounts {
+    let margin = splat_margin(scene);
+    let results: Vec<TileResult> = tiles
+        .par_iter()
+        .map(|tile| {
+            let result = render_tile(scene, integrator, options, filter, tile, index);
+            progress.advance((tile.size.x * tile.size.y) as u64, result.rays.total());
+            result
         })
         .collect();
-
-    let mut film = Film::new(scene.width, scene.height);
     let mut rays = RayCounts::default();
-    let mut tiles_done = 0;
-    for r in &results {
-        tiles_done += 1;
+    for (tile, r) in tiles.iter().zip(&results) {
         rays.add(&r.rays);
         film.rejected += r.rejected;
-        let m = r.margin as i64;
-        let w = r.tile.size.x as i64 + 2 * m;
+        let m = margin as i64;
+        let w = tile.size.x as i64 + 2 * m;
         for (i, px) in r.pixels.iter().enumerate() {
-            let x = r.tile.origin.x as i64 - m + i as i64 % w;
-            let y = r.tile.origin.y as i64 - m + i as i64 / w;
+            let x = tile.origin.x as i64 - m + i as i64 % w;
+            let y = tile.origin.y as i64 - m + i as i64 / w;
             if (0..scene.width as i64).contains(&x) && (0..scene.height as i64).contains(&y) {
-                film.pixel_mut(x as u32, y as u32).merge(px);
+                film.add(x as u32, y as u32, px, r.aovs.get(i));
             }
         }
     }
-    let total_tiles = scene.height.div_ceil(ts) * scene.width.div_ceil(ts);
-    let stats = RenderStats {
-        elapsed: start.elapsed(),
-        samples: film.samples(),
-        rays,
-        cancelled: tiles_done < total_tiles,
+    film.samples_per_pixel += 1;
+    rays
+}
+
+/// Pixels a splatting filter reaches beyond a tile's edge.
+fn splat_margin(scene: &Scene) -> u32 {
+    let radius = scene.filter.radius();
+    if radius > 0.5 {
+        (radius - 0.5).ceil() as u32
+    } else {
+        0
+    }
+}
+
+/// The AOVs of the first surface `ray` meets: albedo, shading normal, depth (zeros when
+/// it meets none).
+fn first_hit_aovs(scene: &Scene, ray: &Ray) -> [f32; AOV_CHANNELS] {
+    let Some(it) = scene.intersect(ray, f32::INFINITY) else {
+        return [0.0; AOV_CHANNELS];
     };
-    RenderResult { film, stats }
+    let albedo = it.material.bsdf(it.surface.uv).albedo();
+    let n = it.surface.ns;
+    let depth = (it.surface.p - ray.origin).length();
+    [albedo.r, albedo.g, albedo.b, n.x, n.y, n.z, depth]
 }
 
 fn render_tile(
@@ -147,70 +227,79 @@ fn render_tile(
     integrator: &dyn Integrator,
     options: &RenderOptions,
     filter: &FilterSampler,
-    tile: Tile,
+    tile: &Tile,
+    index: u32,
 ) -> TileResult {
     let mut sampler = PixelSampler::new(options.sampler, options.seed, options.spp);
     let radius = scene.filter.radius();
     let splat = radius > 0.5;
-    let margin = if splat { (radius - 0.5).ceil() as u32 } else { 0 };
+    let margin = splat_margin(scene);
     let stride = tile.size.x + 2 * margin;
     let table = splat.then(|| FilterTable::new(&scene.filter));
     let lens = scene.camera.has_lens();
     // The filter's weights for the columns a sample reaches, worked out once per sample.
     let mut column_weights = Vec::with_capacity(2 * margin as usize + 2);
-    let mut pixels = vec![Pixel::default(); (stride * (tile.size.y + 2 * margin)) as usize];
+    let buffer = (stride * (tile.size.y + 2 * margin)) as usize;
+    let mut pixels = vec![Pixel::default(); buffer];
+    let mut aovs = if options.aovs {
+        vec![[0.0; AOV_CHANNELS]; buffer]
+    } else {
+        Vec::new()
+    };
     let mut rays = RayCounts::default();
     let mut rejected = 0;
     for y in 0..tile.size.y {
         for x in 0..tile.size.x {
             let pixel = tile.origin + UVec2::new(x, y);
-            for index in 0..options.spp {
-                sampler.start(pixel, index);
-                let u = sampler.next_2d();
-                let (film_pos, weight) = if splat {
-                    (pixel.as_vec2() + u, 1.0)
-                } else {
-                    let (offset, weight) = filter.sample(u);
-                    (pixel.as_vec2() + Vec2::splat(0.5) + offset, weight)
-                };
-                let u_lens = if lens { sampler.next_2d() } else { Vec2::ZERO };
-                let ray = scene.camera.generate_ray(film_pos, u_lens);
-                rays.camera += 1;
-                let l = integrator.li(scene, &ray, &mut sampler, &mut rays);
-                let own = ((y + margin) * stride + x + margin) as usize;
-                pixels[own].samples += 1;
-                if !l.is_finite() {
-                    rejected += 1;
-                    continue;
+            sampler.start(pixel, index);
+            let u = sampler.next_2d();
+            let (film_pos, weight) = if splat {
+                (pixel.as_vec2() + u, 1.0)
+            } else {
+                let (offset, weight) = filter.sample(u);
+                (pixel.as_vec2() + Vec2::splat(0.5) + offset, weight)
+            };
+            let u_lens = if lens { sampler.next_2d() } else { Vec2::ZERO };
+            let ray = scene.camera.generate_ray(film_pos, u_lens);
+            rays.camera += 1;
+            let l = integrator.li(scene, &ray, &mut sampler, &mut rays);
+            if !l.is_finite() {
+                rejected += 1;
+                continue;
+            }
+            let aov = options.aovs.then(|| first_hit_aovs(scene, &ray));
+            let mut add = |i: usize, w: f32| {
+                pixels[i].add(l, w);
+                if let Some(a) = &aov {
+                    aovs[i].iter_mut().zip(a).for_each(|(s, v)| *s += v * w);
                 }
-                let Some(table) = &table else {
-                    pixels[own].add(l, weight);
-                    continue;
-                };
-                // Every pixel whose centre is within the radius of the sample, in the
-                // tile's buffer coordinates (the tile's first pixel at (margin, margin)).
-                let local = film_pos - tile.origin.as_vec2() + Vec2::splat(margin as f32);
-                let lo = (local - Vec2::splat(radius + 0.5)).ceil().max(Vec2::ZERO);
-                let hi = (local + Vec2::splat(radius - 0.5)).floor();
-                let columns = lo.x as u32..=(hi.x as u32).min(stride - 1);
-                column_weights.clear();
-                column_weights.extend(columns.clone().map(|px| table.eval(px as f32 + 0.5 - local.x)));
-                for py in lo.y as u32..=(hi.y as u32).min(tile.size.y + 2 * margin - 1) {
-                    let wy = table.eval(py as f32 + 0.5 - local.y);
-                    for (px, &wx) in columns.clone().zip(&column_weights) {
-                        let w = wy * wx;
-                        if w != 0.0 {
-                            pixels[(py * stride + px) as usize].add(l, w);
-                        }
+            };
+            let Some(table) = &table else {
+                add(((y + margin) * stride + x + margin) as usize, weight);
+                continue;
+            };
+            // Every pixel whose centre is within the radius of the sample, in the
+            // tile's buffer coordinates (the tile's first pixel at (margin, margin)).
+            let local = film_pos - tile.origin.as_vec2() + Vec2::splat(margin as f32);
+            let lo = (local - Vec2::splat(radius + 0.5)).ceil().max(Vec2::ZERO);
+            let hi = (local + Vec2::splat(radius - 0.5)).floor();
+            let columns = lo.x as u32..=(hi.x as u32).min(stride - 1);
+            column_weights.clear();
+            column_weights.extend(columns.clone().map(|px| table.eval(px as f32 + 0.5 - local.x)));
+            for py in lo.y as u32..=(hi.y as u32).min(tile.size.y + 2 * margin - 1) {
+                let wy = table.eval(py as f32 + 0.5 - local.y);
+                for (px, &wx) in columns.clone().zip(&column_weights) {
+                    let w = wy * wx;
+                    if w != 0.0 {
+                        add((py * stride + px) as usize, w);
                     }
                 }
             }
         }
     }
     TileResult {
-        tile,
         pixels,
-        margin,
+        aovs,
         rejected,
         rays,
     }

@@ -1,17 +1,17 @@
-//! The film: per-pixel weighted sums of radiance samples in linear float RGB, with sample
-//! counts and a count of rejected (NaN or infinite) samples.
+//! The film: per-pixel weighted sums of radiance samples in linear RGB (and of the AOVs
+//! when asked for), the number of samples per pixel, and a count of rejected (NaN or
+//! infinite) samples. Tiles accumulate one pass in single precision ([`Pixel`]); the film
+//! adds the passes in double precision ([`Film`]).
 
 use penumbra_core::Rgb;
 
-/// One pixel's accumulated samples.
+/// One pixel of a tile's buffer during a pass.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Pixel {
     /// Sum of filter weight times radiance.
     pub sum: Rgb,
     /// Sum of filter weights.
     pub weight: f32,
-    /// Samples taken in this pixel, including rejected ones.
-    pub samples: u32,
 }
 
 impl Pixel {
@@ -20,13 +20,6 @@ impl Pixel {
     pub fn add(&mut self, radiance: Rgb, weight: f32) {
         self.sum += radiance * weight;
         self.weight += weight;
-    }
-
-    /// Adds everything `other` accumulated.
-    pub fn merge(&mut self, other: &Pixel) {
-        self.sum += other.sum;
-        self.weight += other.weight;
-        self.samples += other.samples;
     }
 
     /// The pixel's estimate: the weighted mean of its samples (black without samples).
@@ -39,26 +32,63 @@ impl Pixel {
     }
 }
 
+/// Channels of the auxiliary outputs (AOVs): albedo (RGB), shading normal (XYZ), depth.
+pub const AOV_CHANNELS: usize = 7;
+/// The AOV channel names, as EXR layers.
+pub const AOV_NAMES: [&str; AOV_CHANNELS] = [
+    "albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z", "depth.Z",
+];
+
+/// One pixel of the film: weighted sums in double precision.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FilmPixel {
+    pub sum: [f64; 3],
+    pub weight: f64,
+}
+
+impl FilmPixel {
+    /// The pixel's estimate: the weighted mean of its samples (black without weight).
+    pub fn value(&self) -> Rgb {
+        if self.weight > 0.0 {
+            let [r, g, b] = self.sum.map(|s| (s / self.weight) as f32);
+            Rgb::new(r, g, b)
+        } else {
+            Rgb::BLACK
+        }
+    }
+}
+
+/// The accumulated state of a progressive render: every pixel's sums over the passes done
+/// so far, one pass per sample index, added in sample order. Because each pass is added
+/// whole and in order, a render stopped after any pass and resumed gives exactly the sums
+/// of an uninterrupted one.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Film {
     pub width: u32,
     pub height: u32,
-    pixels: Vec<Pixel>,
+    pixels: Vec<FilmPixel>,
+    /// Weighted sums of the AOV channels, [`AOV_CHANNELS`] per pixel, when asked for.
+    pub aovs: Option<Vec<[f64; AOV_CHANNELS]>>,
+    /// Sample indices done: every pixel has this many samples.
+    pub samples_per_pixel: u32,
     /// Samples dropped because their radiance was not finite.
     pub rejected: u64,
 }
 
 impl Film {
-    pub fn new(width: u32, height: u32) -> Self {
+    pub fn new(width: u32, height: u32, aovs: bool) -> Self {
+        let n = width as usize * height as usize;
         Film {
             width,
             height,
-            pixels: vec![Pixel::default(); width as usize * height as usize],
+            pixels: vec![FilmPixel::default(); n],
+            aovs: aovs.then(|| vec![[0.0; AOV_CHANNELS]; n]),
+            samples_per_pixel: 0,
             rejected: 0,
         }
     }
 
-    pub fn pixel(&self, x: u32, y: u32) -> &Pixel {
+    pub fn pixel(&self, x: u32, y: u32) -> &FilmPixel {
         &self.pixels[self.index(x, y)]
     }
 
@@ -66,18 +96,51 @@ impl Film {
         y as usize * self.width as usize + x as usize
     }
 
-    pub fn pixel_mut(&mut self, x: u32, y: u32) -> &mut Pixel {
+    pub fn pixels(&self) -> &[FilmPixel] {
+        &self.pixels
+    }
+
+    pub fn pixels_mut(&mut self) -> &mut [FilmPixel] {
+        &mut self.pixels
+    }
+
+    /// Adds one pass's contribution to pixel (x, y).
+    pub fn add(&mut self, x: u32, y: u32, p: &Pixel, aov: Option<&[f32; AOV_CHANNELS]>) {
         let i = self.index(x, y);
-        &mut self.pixels[i]
+        let px = &mut self.pixels[i];
+        for (s, v) in px.sum.iter_mut().zip(p.sum.to_array()) {
+            *s += v as f64;
+        }
+        px.weight += p.weight as f64;
+        if let (Some(aovs), Some(a)) = (&mut self.aovs, aov) {
+            for (s, v) in aovs[i].iter_mut().zip(a) {
+                *s += *v as f64;
+            }
+        }
     }
 
     /// The image: every pixel's estimate, row by row from the top.
     pub fn image(&self) -> Vec<Rgb> {
-        self.pixels.iter().map(Pixel::value).collect()
+        self.pixels.iter().map(FilmPixel::value).collect()
+    }
+
+    /// The AOV images (each channel's weighted mean), one per entry of [`AOV_NAMES`].
+    pub fn aov_images(&self) -> Option<Vec<Vec<f32>>> {
+        let aovs = self.aovs.as_ref()?;
+        Some(
+            (0..AOV_CHANNELS)
+                .map(|c| {
+                    aovs.iter()
+                        .zip(&self.pixels)
+                        .map(|(a, p)| if p.weight > 0.0 { (a[c] / p.weight) as f32 } else { 0.0 })
+                        .collect()
+                })
+                .collect(),
+        )
     }
 
     /// Total samples taken.
     pub fn samples(&self) -> u64 {
-        self.pixels.iter().map(|p| p.samples as u64).sum()
+        self.samples_per_pixel as u64 * self.width as u64 * self.height as u64
     }
 }

@@ -170,7 +170,7 @@ fn environment(e: &EnvironmentDesc) -> Result<Environment, String> {
     let EnvironmentSource::Image(path) = &e.source else {
         return Ok(Environment::constant(e.scale));
     };
-    let image = crate::image_io::read_input_image(path, false)
+    let image = crate::image_input::read_input_image(path, false)
         .map_err(|err| format!("cannot read the environment map {}: {err}", path.display()))?;
     let image = EnvImage {
         width: image.width as usize,

@@ -55,6 +55,22 @@ pub fn write_image(path: &Path, image: &Image, exposure: f32) -> io::Result<()> 
             ),
         )
     })?;
+    write_atomically(path, |file| match format {
+        ImageFormat::Png => write_png(&mut io::BufWriter::new(file), image, exposure),
+        ImageFormat::Exr => write_exr(file, image, &[]),
+        ImageFormat::Pfm => write_pfm(&mut io::BufWriter::new(file), image),
+    })
+}
+
+/// Writes `image` as OpenEXR with extra channels, each a full channel name ("albedo.R")
+/// and one value per pixel, atomically.
+pub fn write_exr_layers(path: &Path, image: &Image, extra: &[(&str, Vec<f32>)]) -> io::Result<()> {
+    write_atomically(path, |file| write_exr(file, image, extra))
+}
+
+/// Writes `path` through a temporary file in its directory, renamed into place once
+/// complete: a reader never sees a partial file.
+fn write_atomically(path: &Path, write: impl FnOnce(&mut std::fs::File) -> io::Result<()>) -> io::Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -65,11 +81,7 @@ pub fn write_image(path: &Path, image: &Image, exposure: f32) -> io::Result<()> 
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o644));
     let mut tmp = builder.tempfile_in(dir)?;
-    match format {
-        ImageFormat::Png => write_png(&mut io::BufWriter::new(tmp.as_file_mut()), image, exposure)?,
-        ImageFormat::Exr => write_exr(tmp.as_file_mut(), image)?,
-        ImageFormat::Pfm => write_pfm(&mut io::BufWriter::new(tmp.as_file_mut()), image)?,
-    }
+    write(tmp.as_file_mut())?;
     tmp.as_file().sync_all()?;
     tmp.persist(path).map_err(|e| e.error)?;
     Ok(())
@@ -182,15 +194,42 @@ fn write_png(w: &mut impl Write, image: &Image, exposure: f32) -> io::Result<()>
     writer.finish().map_err(io::Error::other)
 }
 
-fn write_exr(file: &mut std::fs::File, image: &Image) -> io::Result<()> {
+fn write_exr(file: &mut std::fs::File, image: &Image, extra: &[(&str, Vec<f32>)]) -> io::Result<()> {
     use exr::prelude::*;
     let (w, h) = (image.width as usize, image.height as usize);
-    let channels = SpecificChannels::rgb(|p: Vec2<usize>| {
-        let c = image.pixels[p.y() * w + p.x()];
-        (c.r, c.g, c.b)
-    });
-    let img = exr::image::Image::from_channels((w, h), channels);
-    img.write()
+    if extra.is_empty() {
+        let channels = SpecificChannels::rgb(|p: Vec2<usize>| {
+            let c = image.pixels[p.y() * w + p.x()];
+            (c.r, c.g, c.b)
+        });
+        let img = exr::image::Image::from_channels((w, h), channels);
+        // One thread: parallel compression writes the blocks in whatever order they finish.
+        return img
+            .write()
+            .non_parallel()
+            .to_buffered(io::BufWriter::new(file))
+            .map_err(io::Error::other);
+    }
+    let rgb = |f: fn(&Rgb) -> f32| FlatSamples::F32(image.pixels.iter().map(f).collect());
+    let mut list = vec![
+        AnyChannel::new("R", rgb(|c| c.r)),
+        AnyChannel::new("G", rgb(|c| c.g)),
+        AnyChannel::new("B", rgb(|c| c.b)),
+    ];
+    list.extend(
+        extra
+            .iter()
+            .map(|(name, values)| AnyChannel::new(*name, FlatSamples::F32(values.clone()))),
+    );
+    let layer = Layer::new(
+        (w, h),
+        LayerAttributes::default(),
+        Encoding::FAST_LOSSLESS,
+        AnyChannels::sort(list.into()),
+    );
+    exr::image::Image::from_layer(layer)
+        .write()
+        .non_parallel()
         .to_buffered(io::BufWriter::new(file))
         .map_err(io::Error::other)
 }
@@ -308,56 +347,5 @@ mod tests {
         assert_eq!(srgb_encode(0.0), 0.0);
         assert!((srgb_encode(1.0) - 1.0).abs() < 1e-6);
         assert!((srgb_encode(0.18) - 0.4613).abs() < 1e-3);
-    }
-}
-
-/// The inverse of [`srgb_encode`].
-pub fn srgb_decode(x: f32) -> f32 {
-    if x <= 0.040_45 {
-        x / 12.92
-    } else {
-        ((x + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-/// The largest image a scene may load (2^28 pixels, as for rendered images).
-pub const MAX_INPUT_PIXELS: u64 = 1 << 28;
-
-/// Reads an image a scene uses (a texture or an environment map) as linear RGB, rows from
-/// the top: OpenEXR, PFM and Radiance HDR as stored; PNG and JPEG (8 or 16 bits) decoded
-/// with sRGB's transfer function when `srgb` (colours), else as they are (data such as
-/// roughness). The error says what is wrong; the caller names the file.
-pub fn read_input_image(path: &Path, srgb: bool) -> io::Result<OwnedImage> {
-    let bad = |m: String| io::Error::new(io::ErrorKind::InvalidData, m);
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
-    match ext.as_str() {
-        "exr" | "pfm" => read_image(path),
-        "hdr" | "png" | "jpg" | "jpeg" => {
-            let mut reader = image::ImageReader::open(path)?
-                .with_guessed_format()
-                .map_err(|e| bad(e.to_string()))?;
-            let mut limits = image::Limits::default();
-            limits.max_alloc = Some(MAX_INPUT_PIXELS * 16);
-            reader.limits(limits);
-            let decoded = reader.decode().map_err(|e| bad(format!("cannot decode it: {e}")))?;
-            let linear = ext == "hdr";
-            let rgb = decoded.to_rgb32f();
-            let decode = |x: f32| if srgb && !linear { srgb_decode(x) } else { x };
-            Ok(OwnedImage {
-                width: rgb.width(),
-                height: rgb.height(),
-                pixels: rgb
-                    .pixels()
-                    .map(|p| Rgb::new(decode(p[0]), decode(p[1]), decode(p[2])))
-                    .collect(),
-            })
-        }
-        _ => Err(bad(
-            "unsupported image format: use .exr, .hdr, .pfm, .png, .jpg or .jpeg".into(),
-        )),
     }
 }

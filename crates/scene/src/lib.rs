@@ -9,6 +9,7 @@ pub mod desc;
 mod emitters;
 mod error;
 pub mod formats;
+pub mod image_input;
 pub mod image_io;
 mod params;
 

@@ -258,7 +258,7 @@ fn image_texture_file(at: &Value, name: &str, scale: f32, srgb: bool) -> Result<
         .parent()
         .unwrap_or(std::path::Path::new("."))
         .join(name);
-    let image = crate::image_io::read_input_image(&path, srgb).map_err(|e| {
+    let image = crate::image_input::read_input_image(&path, srgb).map_err(|e| {
         at.error(format!("cannot read the texture {}: {e}", path.display()))
             .label("this texture")
     })?;
