@@ -35,7 +35,7 @@ def main():
     out = [HEADER]
     for name, b in d["bsdfs"].items():
         r = b["reflectance"]
-        out.append(f'[[material]]\nname = "{name}"\ndiffuse = [{r[0]}, {r[1]}, {r[2]}]\n')
+        out.append(f'[[material]]\nname = "{name}"\ntype = "diffuse"\nreflectance = [{r[0]}, {r[1]}, {r[2]}]\n')
     for sh in d["shapes"]:
         vs = ", ".join("[" + ", ".join(repr(float(c)) for c in v) + "]" for v in sh["vertices"])
         fs = ", ".join("[" + ", ".join(str(i) for i in t) + "]" for t in sh["faces"])

@@ -117,7 +117,10 @@ pub fn render(
     after_pass: &mut dyn FnMut(&Film),
 ) -> RenderResult {
     let start = Instant::now();
-    let filter = FilterSampler::new(scene.filter);
+    let filter = Filters {
+        sampler: FilterSampler::new(scene.filter),
+        splat: (scene.filter.radius() > 0.5).then(|| FilterTable::new(&scene.filter)),
+    };
     let ts = options.tile_size.max(1);
     let tiles: Vec<Tile> = (0..scene.height.div_ceil(ts))
         .flat_map(|ty| (0..scene.width.div_ceil(ts)).map(move |tx| (tx, ty)))
@@ -161,13 +164,20 @@ pub fn render(
     RenderResult { film, stats }
 }
 
+/// The pixel filter, tabulated once per render: sampled (narrow filters) or splatted.
+struct Filters {
+    sampler: FilterSampler,
+    /// For filters wider than a pixel.
+    splat: Option<FilterTable>,
+}
+
 /// Sample `index` of every pixel, tile by tile in parallel, added to `film` in tile order.
 #[allow(clippy::too_many_arguments)]
 fn render_pass(
     scene: &Scene,
     integrator: &dyn Integrator,
     options: &RenderOptions,
-    filter: &FilterSampler,
+    filter: &Filters,
     tiles: &[Tile],
     index: u32,
     film: &mut Film,
@@ -226,16 +236,16 @@ fn render_tile(
     scene: &Scene,
     integrator: &dyn Integrator,
     options: &RenderOptions,
-    filter: &FilterSampler,
+    filter: &Filters,
     tile: &Tile,
     index: u32,
 ) -> TileResult {
     let mut sampler = PixelSampler::new(options.sampler, options.seed, options.spp);
     let radius = scene.filter.radius();
-    let splat = radius > 0.5;
+    let table = filter.splat.as_ref();
+    let splat = table.is_some();
     let margin = splat_margin(scene);
     let stride = tile.size.x + 2 * margin;
-    let table = splat.then(|| FilterTable::new(&scene.filter));
     let lens = scene.camera.has_lens();
     // The filter's weights for the columns a sample reaches, worked out once per sample.
     let mut column_weights = Vec::with_capacity(2 * margin as usize + 2);
@@ -256,7 +266,7 @@ fn render_tile(
             let (film_pos, weight) = if splat {
                 (pixel.as_vec2() + u, 1.0)
             } else {
-                let (offset, weight) = filter.sample(u);
+                let (offset, weight) = filter.sampler.sample(u);
                 (pixel.as_vec2() + Vec2::splat(0.5) + offset, weight)
             };
             let u_lens = if lens { sampler.next_2d() } else { Vec2::ZERO };
@@ -274,7 +284,7 @@ fn render_tile(
                     aovs[i].iter_mut().zip(a).for_each(|(s, v)| *s += v * w);
                 }
             };
-            let Some(table) = &table else {
+            let Some(table) = table else {
                 add(((y + margin) * stride + x + margin) as usize, weight);
                 continue;
             };
