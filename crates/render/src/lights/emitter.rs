@@ -36,6 +36,8 @@ pub struct Emitter {
     normal: Vec3,
     /// A quad with perpendicular edges, which is sampled as a spherical rectangle.
     rectangle: bool,
+    /// Centre of a flat shape, for [`Emitter::looks_small`] (`None` for spheres).
+    centroid: Option<Vec3>,
 }
 
 /// A point on an emitter and the density of the direction towards it.
@@ -65,11 +67,17 @@ impl Emitter {
         }
         let rectangle = matches!(&shape, EmitterShape::Quad { e1, e2, .. }
             if e1.dot(*e2).abs() <= 1e-5 * e1.length() * e2.length());
+        let centroid = match &shape {
+            EmitterShape::Triangle { v } => Some((v[0] + v[1] + v[2]) / 3.0),
+            EmitterShape::Quad { corner, e1, e2 } => Some(*corner + 0.5 * (*e1 + *e2)),
+            _ => None,
+        };
         Some(Emitter {
             normal: front.normalize_or_zero(),
             shape,
             area,
             rectangle,
+            centroid,
         })
     }
 
@@ -158,12 +166,8 @@ impl Emitter {
     /// trigonometry in double precision, would barely beat area sampling: cos θ and 1/r²
     /// hardly vary over it. (Spheres keep their cheap cone sampling.)
     pub fn looks_small(&self, p: Vec3) -> bool {
-        let centroid = match &self.shape {
-            EmitterShape::Triangle { v } => (v[0] + v[1] + v[2]) / 3.0,
-            EmitterShape::Quad { corner, e1, e2 } => *corner + 0.5 * (*e1 + *e2),
-            _ => return false,
-        };
-        self.area < SMALL_SOLID_ANGLE * (centroid - p).length_squared()
+        self.centroid
+            .is_some_and(|c| self.area < SMALL_SOLID_ANGLE * (c - p).length_squared())
     }
 
     /// A point whose direction from `p` is uniform over the solid angle the emitter
