@@ -114,12 +114,23 @@ fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
     h
 }
 
-/// Of the scene's source and every setting that shapes the image except the sample count.
-fn fingerprint(source: &[u8], desc: &SceneDesc) -> u64 {
+/// Of the renderer's version, the scene's source, every file it names (textures, maps,
+/// meshes: each quoted string that is a file beside the scene) and every setting that
+/// shapes the image except the sample count.
+fn fingerprint(scene: Option<&std::path::Path>, source: &[u8], desc: &SceneDesc) -> u64 {
     let mut render = desc.render.clone();
     render.spp = 0;
-    let settings = format!("{render:?} {:?}", desc.camera.kind);
-    fnv1a(settings.as_bytes(), fnv1a(source, 0xcbf2_9ce4_8422_2325))
+    let settings = format!("{} {render:?} {:?}", env!("CARGO_PKG_VERSION"), desc.camera.kind);
+    let mut h = fnv1a(settings.as_bytes(), fnv1a(source, 0xcbf2_9ce4_8422_2325));
+    let dir = scene.and_then(|p| p.parent()).unwrap_or(std::path::Path::new("."));
+    let text = String::from_utf8_lossy(source);
+    for name in text.split('"').skip(1).step_by(2) {
+        let path = dir.join(name);
+        if !name.is_empty() && path.is_file() {
+            h = fnv1a(&std::fs::read(&path).unwrap_or_default(), fnv1a(name.as_bytes(), h));
+        }
+    }
+    h
 }
 
 /// Whether the sampler's samples depend on the planned sample count.
@@ -180,7 +191,7 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
     for warning in &desc.warnings {
         eprintln!("warning: {warning}");
     }
-    let print = fingerprint(&source, &desc);
+    let print = fingerprint(args.scene.as_deref(), &source, &desc);
     let state_file = state_path(&args.output);
 
     // A saved render to continue.

@@ -98,10 +98,10 @@ impl Distribution2D {
         let (y, py, rest_y) = self.marginal.sample(u[1]);
         let row = self.rows[y].as_ref().expect("rows of zero weight are never chosen");
         let (x, px, rest_x) = row.sample(u[0]);
-        let point = [
-            (x as f32 + rest_x) / self.width as f32,
-            (y as f32 + rest_y) / self.height as f32,
-        ];
+        // Kept inside the chosen cell (x + rest can round up to the next one).
+        let within =
+            |i: usize, rest: f32, n: usize| ((i as f32 + rest) / n as f32).min(((i + 1) as f32 / n as f32).next_down());
+        let point = [within(x, rest_x, self.width), within(y, rest_y, self.height)];
         (point, px * py * (self.width * self.height) as f32)
     }
 

@@ -227,7 +227,7 @@ fn first_hit_aovs(scene: &Scene, ray: &Ray) -> [f32; AOV_CHANNELS] {
         return [0.0; AOV_CHANNELS];
     };
     let albedo = it.material.bsdf(it.surface.uv).albedo();
-    let n = it.surface.ns;
+    let n = it.material.shading_frame(&it.surface).n;
     let depth = (it.surface.p - ray.origin).length();
     [albedo.r, albedo.g, albedo.b, n.x, n.y, n.z, depth]
 }

@@ -45,7 +45,7 @@ fn transmission_scale(eta_rel: f32, mode: TransportMode) -> f32 {
 
 impl Dielectric {
     /// The rough BSDF's distribution, unless the interface is smooth or index-matched.
-    fn rough(&self) -> Option<Ggx> {
+    pub(crate) fn rough(&self) -> Option<Ggx> {
         self.alpha.filter(|_| self.eta != 1.0)
     }
 

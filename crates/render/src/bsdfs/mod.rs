@@ -62,19 +62,32 @@ pub struct SpecularRay {
     pub weight: Rgb,
 }
 
-/// Up to four perfectly specular rays, kept on the stack.
+/// Up to [`MAX_SPECULAR_RAYS`] perfectly specular rays, kept on the stack; rays in the
+/// same direction are merged (a blend of two glasses has two reflections along one line).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SpecularRays {
-    rays: [SpecularRay; 4],
+    rays: [SpecularRay; MAX_SPECULAR_RAYS],
     len: usize,
 }
 
+/// Room for a blend of blends of Phong glass (three rays each) before merging.
+pub const MAX_SPECULAR_RAYS: usize = 8;
+
 impl SpecularRays {
     pub fn push(&mut self, wi: Vec3, weight: Rgb) {
-        if self.len < self.rays.len() && !weight.is_black() {
-            self.rays[self.len] = SpecularRay { wi, weight };
-            self.len += 1;
+        if weight.is_black() {
+            return;
         }
+        if let Some(same) = self.rays[..self.len].iter_mut().find(|r| r.wi == wi) {
+            same.weight += weight;
+            return;
+        }
+        assert!(
+            self.len < MAX_SPECULAR_RAYS,
+            "more than {MAX_SPECULAR_RAYS} specular rays"
+        );
+        self.rays[self.len] = SpecularRay { wi, weight };
+        self.len += 1;
     }
 
     pub fn as_slice(&self) -> &[SpecularRay] {
@@ -184,7 +197,7 @@ impl BsdfKind<'_> {
     pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
         match self {
             BsdfKind::Diffuse(b) => b.pdf(wo, wi),
-            BsdfKind::Phong(b) => b.pdf(wo, wi),
+            BsdfKind::Phong(b) => b.pdf(wo, wi, mode),
             BsdfKind::Conductor(b) => b.pdf(wo, wi),
             BsdfKind::Dielectric(b) => b.pdf(wo, wi),
             BsdfKind::Plastic(b) => b.pdf(wo, wi),
@@ -222,7 +235,7 @@ impl BsdfKind<'_> {
             BsdfKind::Diffuse(b) => !b.reflectance.is_black(),
             BsdfKind::Phong(b) => b.has_smooth(),
             BsdfKind::Conductor(b) => b.alpha.is_some(),
-            BsdfKind::Dielectric(b) => b.alpha.is_some(),
+            BsdfKind::Dielectric(b) => b.rough().is_some(),
             BsdfKind::Plastic(_) => true,
             BsdfKind::Blend(b) => b.has_smooth(),
         }

@@ -39,10 +39,10 @@ impl PhongBsdf {
     }
 
     /// The share of the smooth part in `sample`, seen from `wo`.
-    fn smooth_probability(&self, wo: Vec3) -> f32 {
+    fn smooth_probability(&self, wo: Vec3, mode: TransportMode) -> f32 {
         let smooth = self.smooth_albedo();
         let mut rays = SpecularRays::default();
-        self.specular_rays(wo, TransportMode::Radiance, &mut rays);
+        self.specular_rays(wo, mode, &mut rays);
         let total = smooth + rays.as_slice().iter().map(|r| r.weight.luminance()).sum::<f32>();
         if total > 0.0 {
             smooth / total
@@ -64,11 +64,11 @@ impl PhongBsdf {
         diffuse + self.specular * ((self.exponent + 2.0) / (2.0 * PI) * cos_alpha.powf(self.exponent))
     }
 
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
         if !same_hemisphere(wo, wi) {
             return 0.0;
         }
-        self.smooth_probability(wo) * self.smooth_pdf(upper(wo, wo.z), upper(wi, wi.z))
+        self.smooth_probability(wo, mode) * self.smooth_pdf(upper(wo, wo.z), upper(wi, wi.z))
     }
 
     /// Density of the smooth part's sampling, both directions above.

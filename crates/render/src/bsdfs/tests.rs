@@ -341,3 +341,28 @@ fn ggx_normals_integrate_to_the_projected_area() {
         assert!((visible - 1.0).abs() < 5e-3, "alpha {ax} x {ay}: {visible}");
     }
 }
+
+#[test]
+fn blends_merge_their_specular_rays() {
+    // Two Phong glasses (three rays each: mirror, Fresnel reflection, refraction) blended:
+    // the rays along the same directions merge and keep the total weight.
+    let glass = |mirror: f32| {
+        Material::Phong(crate::materials::Phong {
+            diffuse: grey(0.0),
+            mirror: Rgb::splat(mirror),
+            transmission: Rgb::splat(0.5),
+            ..Default::default()
+        })
+    };
+    let single = glass(0.2).bsdf(Vec2::ZERO).specular_rays(view(30.0), MODE);
+    let blend = Material::Blend {
+        a: Box::new(glass(0.2)),
+        b: Box::new(glass(0.2)),
+        weight: grey(0.5),
+    };
+    let merged = blend.bsdf(Vec2::ZERO).specular_rays(view(30.0), MODE);
+    assert_eq!(merged.as_slice().len(), 2, "reflection and refraction");
+    let total = |r: &SpecularRays| r.as_slice().iter().fold(Rgb::BLACK, |a, r| a + r.weight);
+    let (a, b) = (total(&single), total(&merged));
+    assert!((a.r - b.r).abs() < 1e-6, "{a:?} vs {b:?}");
+}

@@ -11,7 +11,7 @@
 use super::nee::{self, LightStrategy, Shading};
 use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts};
 use crate::bsdfs::TransportMode;
-use crate::lights::AreaSampling;
+use crate::lights::{AreaSampling, LightSelection};
 use crate::Scene;
 use penumbra_core::{PixelSampler, Ray, Rgb};
 
@@ -24,7 +24,12 @@ pub struct PathTracer {
 
 impl Integrator for PathTracer {
     fn li(&self, scene: &Scene, camera_ray: &Ray, sampler: &mut PixelSampler, counts: &mut RayCounts) -> Rgb {
-        let selection = self.options.direct.selection;
+        // One shadow ray per vertex: "every light in turn" makes no sense here, and picking
+        // by power with `All`'s within-object probabilities would break the MIS weights.
+        let selection = match self.options.direct.selection {
+            LightSelection::All => LightSelection::Power,
+            s => s,
+        };
         let heuristic = MisHeuristic::Power;
         let nee = LightStrategy {
             sampling: AreaSampling::Adaptive,

@@ -118,12 +118,14 @@ impl Environment {
         let (wi, pdf) = match &self.image {
             None => (warp::uniform_sphere(u), 1.0 / (4.0 * PI)),
             Some((_, distribution)) => {
-                let ([x, y], pdf_uv) = distribution.sample([u.x, u.y]);
+                let ([x, y], _) = distribution.sample([u.x, u.y]);
                 let (wi, sin_theta) = self.direction(Vec2::new(x, y));
                 if sin_theta <= 0.0 {
                     return None;
                 }
-                (wi, pdf_uv / (2.0 * PI * PI * sin_theta))
+                // The density of the pixel the direction maps back to, which is the one
+                // `le` reads (rounding can move a point sampled at a cell's edge across it).
+                (wi, self.pdf(wi))
             }
         };
         (pdf > 0.0 && pdf.is_finite()).then(|| LightSample {

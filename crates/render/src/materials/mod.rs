@@ -99,8 +99,8 @@ impl Material {
     }
 
     /// The shading frame at `s`: the shading normal with the tangent ∂p/∂u, or the normal
-    /// a normal map gives (ignored where it would face away from the geometric normal's
-    /// side of the shading normal).
+    /// a normal map gives (ignored where the texel points below the surface). Only the
+    /// outermost material's map counts: a blend's parts keep the surface's normal.
     pub fn shading_frame(&self, s: &SurfaceHit) -> Frame {
         let frame = Frame::from_normal_tangent(s.ns, s.dpdu);
         let Material::NormalMapped { map, .. } = self else {

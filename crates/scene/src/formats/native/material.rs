@@ -11,8 +11,9 @@
 //!   `ior_outside` (1), `roughness` (isotropic).
 //! - `blend`: `a` and `b`, names of materials defined above, and `weight` of `b` (0.5).
 //!
-//! Every type but `phong` and `dielectric` takes `two_sided` (default true): false makes
-//! the back of the surface black, as Mitsuba's BSDFs without `twosided`. Every type takes
+//! `diffuse`, `conductor` and `plastic` take `two_sided` (default true): false makes the
+//! back of the surface black, as Mitsuba's BSDFs without `twosided`; a blend's parts keep
+//! their own. Every type takes
 //! `normal_map`, an image file of tangent-space normals.
 
 use super::choice;
@@ -63,7 +64,9 @@ pub fn read_all(tables: &[Table]) -> Result<Vec<MaterialDesc>> {
                     }
                     _ => read_blend(t, &out)?,
                 };
-                if t.get("two_sided").map_or(Ok(true), |v| v.bool())? {
+                // A blend's parts keep their own sides (wrapping it would turn a glass part
+                // inside out).
+                if other != "blend" && t.get("two_sided").map_or(Ok(true), |v| v.bool())? {
                     Material::TwoSided(Box::new(m))
                 } else {
                     m

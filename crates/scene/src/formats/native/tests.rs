@@ -370,6 +370,7 @@ fn every_material_type_reads() {
                 Material::Blend { .. } => "two-sided blend",
                 _ => "two-sided other",
             },
+            Material::Blend { .. } => "blend",
             Material::Dielectric { eta, .. } => {
                 assert!((eta - 1.33).abs() < 1e-6);
                 "dielectric"
