@@ -385,7 +385,7 @@ fn every_material_type_reads() {
             "two-sided conductor",
             "dielectric",
             "two-sided plastic",
-            "two-sided blend"
+            "blend"
         ]
     );
 }
