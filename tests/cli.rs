@@ -1,23 +1,13 @@
 //! The `penumbra` command end to end: the default render, the example scenes, output
 //! formats, determinism across thread counts, and every kind of bad input.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn penumbra(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_penumbra"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("runs")
-}
+use common::{penumbra, text};
+use std::path::PathBuf;
 
 fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
 }
 
 #[test]

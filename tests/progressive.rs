@@ -1,13 +1,15 @@
 //! Long renders the way users run them: progressive passes, a time budget, checkpoints,
 //! Ctrl-C, resuming to exactly the uninterrupted image, and AOVs.
 
+mod common;
+
+use common::{penumbra, text};
 use penumbra::renderer::driver::Stop;
 use penumbra::renderer::Film;
 use penumbra::scene::SourceFile;
 use penumbra::state::{read_state, write_state};
 use penumbra::RenderControl;
-use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 /// A small path-traced Cornell-like box, 48 x 32, with a splatting filter (so that tiles
@@ -163,18 +165,6 @@ fn aovs_give_albedo_normal_and_depth_of_the_first_hit() {
     // 10 degrees of view: the rays splatted into the centre pixel are within 3 degrees of
     // straight down.
     assert!(depth > 3.0 && depth < 3.0 / (3.0f32.to_radians().cos()), "{depth}");
-}
-
-fn penumbra(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_penumbra"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("runs")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
 }
 
 /// The command line: `--time` stops early and saves the state, `--resume` finishes it to
