@@ -13,9 +13,14 @@ use penumbra::scene::{build_scene, SourceFile};
 use penumbra_testkit::{assert_within_3se, MeanEstimate};
 
 fn furnace(albedo: f32) -> Scene {
+    furnace_with(albedo, "")
+}
+
+/// [`furnace`] with more shapes inside (`extra`, native-format text).
+fn furnace_with(albedo: f32, extra: &str) -> Scene {
     let text = format!(
         "[[material]]\nname = \"wall\"\ndiffuse = {albedo}\n\n\
-         [[shape]]\ntype = \"sphere\"\nradius = 2\nmaterial = \"wall\"\nemission = 1\ntwo_sided = true\n"
+         [[shape]]\ntype = \"sphere\"\nradius = 2\nmaterial = \"wall\"\nemission = 1\ntwo_sided = true\n{extra}"
     );
     let desc = penumbra::scene::formats::native::read(&SourceFile::new("furnace.toml", text)).unwrap();
     build_scene(&desc).unwrap()
@@ -67,11 +72,17 @@ fn furnace_sphere_gives_the_geometric_series_for_every_max_depth() {
 }
 
 /// The path tracer treats `light_selection = "all"` as selection by power (one shadow ray
-/// per vertex), with consistent MIS weights: the furnace still sums to the series.
+/// per vertex), with consistent MIS weights: the furnace still sums to the series. A second,
+/// small emitting sphere of the same emission and albedo inside makes the two lights'
+/// probabilities differ between selections (by power, 1:100 or so; within each light
+/// object, 1), which is what broke the weights before.
 #[test]
 fn furnace_with_every_light_selection() {
     use penumbra::renderer::lights::LightSelection;
-    let scene = furnace(0.5);
+    let scene = furnace_with(
+        0.5,
+        "\n[[shape]]\ntype = \"sphere\"\ncenter = [0, -1.5, 0]\nradius = 0.3\nmaterial = \"wall\"\nemission = 1\n",
+    );
     for selection in [LightSelection::All, LightSelection::Uniform, LightSelection::Power] {
         let integrator = IntegratorKind::Path.create(IntegratorOptions {
             max_depth: 3,
