@@ -33,16 +33,8 @@ pub fn state_path(output: &Path) -> PathBuf {
 
 /// Writes `film` as the state of a render planned for `planned_spp`, atomically.
 pub fn write_state(path: &Path, film: &Film, planned_spp: u32, fingerprint: u64) -> io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".penumbra-state-")
-        .suffix(".partial")
-        .tempfile_in(dir)?;
-    {
-        let mut w = io::BufWriter::new(tmp.as_file_mut());
+    penumbra_scene::image_io::write_file_atomically(path, |file| {
+        let mut w = io::BufWriter::new(file);
         w.write_all(MAGIC)?;
         w.write_all(&fingerprint.to_le_bytes())?;
         for v in [film.width, film.height, film.samples_per_pixel, planned_spp] {
@@ -60,11 +52,8 @@ pub fn write_state(path: &Path, film: &Film, planned_spp: u32, fingerprint: u64)
                 w.write_all(&v.to_le_bytes())?;
             }
         }
-        w.flush()?;
-    }
-    tmp.as_file().sync_all()?;
-    tmp.persist(path).map_err(|e| e.error)?;
-    Ok(())
+        w.flush()
+    })
 }
 
 /// Reads a state written by [`write_state`]; the error says what is wrong with it.

@@ -27,6 +27,16 @@ impl Rgb {
     }
 
     /// Luminance Y of linear Rec.709 RGB.
+    /// The smaller of each channel.
+    pub fn min(self, o: Rgb) -> Rgb {
+        Rgb::new(self.r.min(o.r), self.g.min(o.g), self.b.min(o.b))
+    }
+
+    /// The larger of each channel.
+    pub fn max(self, o: Rgb) -> Rgb {
+        Rgb::new(self.r.max(o.r), self.g.max(o.g), self.b.max(o.b))
+    }
+
     /// The mean of the three channels.
     pub fn mean(self) -> f32 {
         (self.r + self.g + self.b) / 3.0

@@ -117,10 +117,7 @@ pub fn render(
     after_pass: &mut dyn FnMut(&Film),
 ) -> RenderResult {
     let start = Instant::now();
-    let filter = Filters {
-        sampler: FilterSampler::new(scene.filter),
-        splat: (scene.filter.radius() > 0.5).then(|| FilterTable::new(&scene.filter)),
-    };
+    let filter = Filters::new(scene);
     let ts = options.tile_size.max(1);
     let tiles: Vec<Tile> = (0..scene.height.div_ceil(ts))
         .flat_map(|ty| (0..scene.width.div_ceil(ts)).map(move |tx| (tx, ty)))
@@ -169,6 +166,20 @@ struct Filters {
     sampler: FilterSampler,
     /// For filters wider than a pixel.
     splat: Option<FilterTable>,
+    /// Pixels a splat reaches beyond a tile's edge (0 without splatting).
+    margin: u32,
+}
+
+impl Filters {
+    fn new(scene: &Scene) -> Self {
+        let radius = scene.filter.radius();
+        let splat = radius > 0.5;
+        Filters {
+            sampler: FilterSampler::new(scene.filter),
+            splat: splat.then(|| FilterTable::new(&scene.filter)),
+            margin: if splat { (radius - 0.5).ceil() as u32 } else { 0 },
+        }
+    }
 }
 
 /// Sample `index` of every pixel, tile by tile in parallel, added to `film` in tile order.
@@ -183,7 +194,7 @@ fn render_pass(
     film: &mut Film,
     progress: &dyn Progress,
 ) -> RayCounts {
-    let margin = splat_margin(scene);
+    let margin = filter.margin;
     let results: Vec<TileResult> = tiles
         .par_iter()
         .map(|tile| {
@@ -210,16 +221,6 @@ fn render_pass(
     rays
 }
 
-/// Pixels a splatting filter reaches beyond a tile's edge.
-fn splat_margin(scene: &Scene) -> u32 {
-    let radius = scene.filter.radius();
-    if radius > 0.5 {
-        (radius - 0.5).ceil() as u32
-    } else {
-        0
-    }
-}
-
 /// The AOVs of the first surface `ray` meets: albedo, shading normal, depth (zeros when
 /// it meets none).
 fn first_hit_aovs(scene: &Scene, ray: &Ray) -> [f32; AOV_CHANNELS] {
@@ -244,7 +245,7 @@ fn render_tile(
     let radius = scene.filter.radius();
     let table = filter.splat.as_ref();
     let splat = table.is_some();
-    let margin = splat_margin(scene);
+    let margin = filter.margin;
     let stride = tile.size.x + 2 * margin;
     let lens = scene.camera.has_lens();
     // The filter's weights for the columns a sample reaches, worked out once per sample.

@@ -71,10 +71,8 @@ impl Texture {
     pub fn min_value(&self) -> Rgb {
         match *self {
             Texture::Constant(c) => c,
-            Texture::Image { ref image, .. } => image.pixels.iter().fold(Rgb::splat(f32::INFINITY), |a, p| {
-                Rgb::new(a.r.min(p.r), a.g.min(p.g), a.b.min(p.b))
-            }),
-            Texture::Checker { even, odd, .. } => Rgb::new(even.r.min(odd.r), even.g.min(odd.g), even.b.min(odd.b)),
+            Texture::Image { ref image, .. } => image.pixels.iter().fold(Rgb::splat(f32::INFINITY), |a, &p| a.min(p)),
+            Texture::Checker { even, odd, .. } => even.min(odd),
         }
     }
 
@@ -82,10 +80,11 @@ impl Texture {
     pub fn max_value(&self) -> Rgb {
         match *self {
             Texture::Constant(c) => c,
-            Texture::Image { ref image, .. } => image.pixels.iter().fold(Rgb::splat(f32::NEG_INFINITY), |a, p| {
-                Rgb::new(a.r.max(p.r), a.g.max(p.g), a.b.max(p.b))
-            }),
-            Texture::Checker { even, odd, .. } => Rgb::new(even.r.max(odd.r), even.g.max(odd.g), even.b.max(odd.b)),
+            Texture::Image { ref image, .. } => image
+                .pixels
+                .iter()
+                .fold(Rgb::splat(f32::NEG_INFINITY), |a, &p| a.max(p)),
+            Texture::Checker { even, odd, .. } => even.max(odd),
         }
     }
 }

@@ -9,8 +9,9 @@ use penumbra_core::Transform;
 use penumbra_geometry::shapes::{Cuboid, Disk, Plane, Quad, Sphere};
 use penumbra_geometry::{GeometryBuilder, Instance, MeshAccel, Shape};
 use penumbra_render::cameras::{Orthographic, Perspective};
-use penumbra_render::lights::{Directional, EnvImage, Environment, LightSetBuilder, Point, Spot};
+use penumbra_render::lights::{Directional, Environment, LightSetBuilder, Point, Spot};
 use penumbra_render::materials::Phong;
+use penumbra_render::texture::TextureImage;
 use penumbra_render::{Camera, Light, Material, Scene};
 use std::sync::Arc;
 
@@ -172,7 +173,7 @@ fn environment(e: &EnvironmentDesc) -> Result<Environment, String> {
     };
     let image = crate::image_input::read_input_image(path, false)
         .map_err(|err| format!("cannot read the environment map {}: {err}", path.display()))?;
-    let image = EnvImage {
+    let image = TextureImage {
         width: image.width as usize,
         height: image.height as usize,
         pixels: image.pixels,

@@ -55,7 +55,7 @@ pub fn write_image(path: &Path, image: &Image, exposure: f32) -> io::Result<()> 
             ),
         )
     })?;
-    write_atomically(path, |file| match format {
+    write_file_atomically(path, |file| match format {
         ImageFormat::Png => write_png(&mut io::BufWriter::new(file), image, exposure),
         ImageFormat::Exr => write_exr(file, image, &[]),
         ImageFormat::Pfm => write_pfm(&mut io::BufWriter::new(file), image),
@@ -65,12 +65,12 @@ pub fn write_image(path: &Path, image: &Image, exposure: f32) -> io::Result<()> 
 /// Writes `image` as OpenEXR with extra channels, each a full channel name ("albedo.R")
 /// and one value per pixel, atomically.
 pub fn write_exr_layers(path: &Path, image: &Image, extra: &[(&str, Vec<f32>)]) -> io::Result<()> {
-    write_atomically(path, |file| write_exr(file, image, extra))
+    write_file_atomically(path, |file| write_exr(file, image, extra))
 }
 
 /// Writes `path` through a temporary file in its directory, renamed into place once
 /// complete: a reader never sees a partial file.
-fn write_atomically(path: &Path, write: impl FnOnce(&mut std::fs::File) -> io::Result<()>) -> io::Result<()> {
+pub fn write_file_atomically(path: &Path, write: impl FnOnce(&mut std::fs::File) -> io::Result<()>) -> io::Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),

@@ -26,22 +26,16 @@ impl<'a> Blend<'a> {
     }
 
     pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
-        self.parts()
-            .iter()
-            .filter(|(w, _)| *w > 0.0)
-            .fold(Rgb::BLACK, |f, (w, b)| f + b.eval(wo, wi, mode) * *w)
+        mixture_eval(&self.parts(), wo, wi, mode)
     }
 
     pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
-        self.parts()
-            .iter()
-            .filter(|(w, _)| *w > 0.0)
-            .map(|(w, b)| w * b.pdf(wo, wi, mode))
-            .sum()
+        mixture_pdf(&self.parts(), wo, wi, mode)
     }
 
     pub fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
-        let [(wa, a), (wb, b)] = self.parts();
+        let parts = self.parts();
+        let [(wa, a), (wb, b)] = parts;
         let (chosen, p, u) = if u < wa {
             (a, wa, u / wa)
         } else {
@@ -51,9 +45,9 @@ impl<'a> Blend<'a> {
         if s.delta {
             return Some(BsdfSample { pdf: s.pdf * p, ..s });
         }
-        let pdf = self.pdf(wo, s.wi, mode);
+        let pdf = mixture_pdf(&parts, wo, s.wi, mode);
         (pdf > 0.0).then(|| BsdfSample {
-            weight: self.eval(wo, s.wi, mode) * (s.wi.z.abs() / pdf),
+            weight: mixture_eval(&parts, wo, s.wi, mode) * (s.wi.z.abs() / pdf),
             pdf,
             ..s
         })
@@ -76,4 +70,21 @@ impl<'a> Blend<'a> {
     pub fn albedo(&self) -> Rgb {
         self.parts().iter().fold(Rgb::BLACK, |a, (w, b)| a + b.albedo() * *w)
     }
+}
+
+/// (1 - w) f_a + w f_b of the weighted parts.
+fn mixture_eval(parts: &[(f32, Bsdf)], wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
+    parts
+        .iter()
+        .filter(|(w, _)| *w > 0.0)
+        .fold(Rgb::BLACK, |f, (w, b)| f + b.eval(wo, wi, mode) * *w)
+}
+
+/// The mixture's density: (1 - w) pdf_a + w pdf_b.
+fn mixture_pdf(parts: &[(f32, Bsdf)], wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+    parts
+        .iter()
+        .filter(|(w, _)| *w > 0.0)
+        .map(|(w, b)| w * b.pdf(wo, wi, mode))
+        .sum()
 }

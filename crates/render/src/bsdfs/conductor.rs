@@ -30,29 +30,17 @@ impl Conductor {
     }
 
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
-        let Some(ggx) = self.alpha else {
-            return Rgb::BLACK;
-        };
-        if wo.z <= 0.0 || wi.z <= 0.0 {
-            return Rgb::BLACK;
+        match (self.alpha, Ggx::reflection_half_vector(wo, wi)) {
+            (Some(ggx), Some(m)) => self.fresnel(wo.dot(m)) * ggx.reflection(wo, wi, m),
+            _ => Rgb::BLACK,
         }
-        let Some(m) = (wo + wi).try_normalize() else {
-            return Rgb::BLACK;
-        };
-        self.fresnel(wo.dot(m)) * (ggx.d(m) * ggx.g2(wo, wi) / (4.0 * wo.z * wi.z))
     }
 
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let Some(ggx) = self.alpha else {
-            return 0.0;
-        };
-        if wo.z <= 0.0 || wi.z <= 0.0 {
-            return 0.0;
+        match (self.alpha, Ggx::reflection_half_vector(wo, wi)) {
+            (Some(ggx), Some(m)) => ggx.reflection_pdf(wo, m),
+            _ => 0.0,
         }
-        let Some(m) = (wo + wi).try_normalize() else {
-            return 0.0;
-        };
-        ggx.visible_pdf(wo, m) / (4.0 * wo.dot(m))
     }
 
     pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
@@ -68,16 +56,11 @@ impl Conductor {
                 eta: 1.0,
             });
         };
-        let m = ggx.sample_visible(wo, u);
-        let cos_om = wo.dot(m);
-        let wi = 2.0 * cos_om * m - wo;
-        if wi.z <= 0.0 || cos_om <= 0.0 {
-            return None;
-        }
+        let (wi, m) = ggx.sample_reflection(wo, u)?;
         Some(BsdfSample {
             wi,
-            weight: self.fresnel(cos_om) * (ggx.g2(wo, wi) / ggx.g1(wo)),
-            pdf: ggx.visible_pdf(wo, m) / (4.0 * cos_om),
+            weight: self.fresnel(wo.dot(m)) * (ggx.g2(wo, wi) / ggx.g1(wo)),
+            pdf: ggx.reflection_pdf(wo, m),
             delta: false,
             eta: 1.0,
         })

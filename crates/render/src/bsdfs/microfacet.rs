@@ -79,6 +79,35 @@ impl Ggx {
         Vec3::new(self.ax * nh.x, self.ay * nh.y, nh.z.max(1e-6)).normalize()
     }
 
+    /// The half vector of a reflection from `wo` to `wi`, when both are above the surface.
+    pub fn reflection_half_vector(wo: Vec3, wi: Vec3) -> Option<Vec3> {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return None;
+        }
+        (wo + wi).try_normalize()
+    }
+
+    /// The reflection BRDF without Fresnel at half vector `m`: D(m) G2 / (4 cos θo cos θi)
+    /// (Walter et al. 2007, eq. 20).
+    pub fn reflection(&self, wo: Vec3, wi: Vec3, m: Vec3) -> f32 {
+        self.d(m) * self.g2(wo, wi) / (4.0 * wo.z * wi.z)
+    }
+
+    /// Density of the direction [`Ggx::sample_reflection`] gives, mirrored about `m`:
+    /// D_wo(m) / (4 wo·m).
+    pub fn reflection_pdf(&self, wo: Vec3, m: Vec3) -> f32 {
+        self.visible_pdf(wo, m) / (4.0 * wo.dot(m))
+    }
+
+    /// `wo` mirrored about a normal visible from it, and that normal; `None` when the
+    /// reflection goes below the surface.
+    pub fn sample_reflection(&self, wo: Vec3, u: Vec2) -> Option<(Vec3, Vec3)> {
+        let m = self.sample_visible(wo, u);
+        let cos_om = wo.dot(m);
+        let wi = 2.0 * cos_om * m - wo;
+        (wi.z > 0.0 && cos_om > 0.0).then_some((wi, m))
+    }
+
     /// Density of [`Ggx::sample_visible`]: D_wo(m) = G1(wo) max(0, wo·m) D(m) / |cos θo|.
     pub fn visible_pdf(&self, wo: Vec3, m: Vec3) -> f32 {
         let wo = if wo.z < 0.0 { -wo } else { wo };

@@ -53,9 +53,8 @@ impl Plastic {
             return Rgb::BLACK;
         }
         let mut f = self.diffuse_part(wo.z, wi.z);
-        if let (Some(ggx), Some(m)) = (self.alpha, (wo + wi).try_normalize()) {
-            let fresnel = fresnel_dielectric(wo.dot(m), self.eta);
-            f += self.specular * (fresnel * ggx.d(m) * ggx.g2(wo, wi) / (4.0 * wo.z * wi.z));
+        if let (Some(ggx), Some(m)) = (self.alpha, Ggx::reflection_half_vector(wo, wi)) {
+            f += self.specular * (fresnel_dielectric(wo.dot(m), self.eta) * ggx.reflection(wo, wi, m));
         }
         f
     }
@@ -66,8 +65,8 @@ impl Plastic {
         }
         let ps = self.specular_probability(wo.z);
         let mut pdf = (1.0 - ps) * warp::cosine_hemisphere_pdf(wi);
-        if let (Some(ggx), Some(m)) = (self.alpha, (wo + wi).try_normalize()) {
-            pdf += ps * ggx.visible_pdf(wo, m) / (4.0 * wo.dot(m));
+        if let (Some(ggx), Some(m)) = (self.alpha, Ggx::reflection_half_vector(wo, wi)) {
+            pdf += ps * ggx.reflection_pdf(wo, m);
         }
         pdf
     }
@@ -87,10 +86,7 @@ impl Plastic {
             });
         }
         let wi = match self.alpha {
-            Some(ggx) if u < ps => {
-                let m = ggx.sample_visible(wo, u2);
-                2.0 * wo.dot(m) * m - wo
-            }
+            Some(ggx) if u < ps => ggx.sample_reflection(wo, u2)?.0,
             _ => warp::cosine_hemisphere(u2),
         };
         if wi.z <= 0.0 {

@@ -286,7 +286,7 @@ impl Direct {
             return Rgb::BLACK;
         };
         let wi = sh.frame.to_world(bs.wi);
-        if sh.local(wi).is_none() {
+        if !sh.agrees(wi, bs.wi) {
             return Rgb::BLACK;
         }
         let p_bsdf = bs.pdf;
@@ -294,16 +294,15 @@ impl Direct {
         let origin = sh.origin_towards(wi);
         let n = n as f32;
         let Some(hit) = scene.intersect(&Ray::new(origin, wi), f32::INFINITY) else {
-            let Some((index, env)) = scene.environment() else {
+            let Some(env) = scene.environment() else {
                 return Rgb::BLACK;
             };
             let weight = if o.sampling == LightSampling::Mis {
-                let p_light = scene.lights.pmf(o.selection, index) * env.pdf(wi);
-                o.heuristic.weight(n * p_bsdf, n * p_light)
+                nee::environment_weight(scene, (o.selection, o.heuristic), env, wi, (n, p_bsdf), n)
             } else {
                 1.0
             };
-            return bs.weight * env.le(wi) * (weight / n);
+            return bs.weight * env.1.le(wi) * (weight / n);
         };
         let Some((index, light)) = scene.emitter_at(&hit) else {
             return Rgb::BLACK;

@@ -4,7 +4,7 @@
 
 use super::{shadow_ray, MisHeuristic, RayCounts};
 use crate::bsdfs::{Bsdf, TransportMode};
-use crate::lights::{AreaLight, AreaSampling, LightSelection};
+use crate::lights::{AreaLight, AreaSampling, Environment, LightSelection};
 use crate::{Interaction, Scene};
 use glam::{Vec2, Vec3};
 use penumbra_core::ray::offset_origin;
@@ -45,25 +45,16 @@ impl<'a> Shading<'a> {
         }
     }
 
-    /// `wi` in the shading frame, when the geometric and the shading normal agree on whether
-    /// it is reflected or transmitted (else light would leak through the surface).
+    /// Whether the geometric and the shading normal agree on whether `wi` (world; `l` in
+    /// the shading frame) is reflected or transmitted (else light would leak through).
+    pub fn agrees(&self, wi: Vec3, l: Vec3) -> bool {
+        l.z != 0.0 && (self.ng.dot(wi) > 0.0) == (l.z * self.wo.z > 0.0)
+    }
+
+    /// `wi` in the shading frame, when the normals agree on it (see [`Shading::agrees`]).
     pub fn local(&self, wi: Vec3) -> Option<Vec3> {
         let l = self.frame.to_local(wi);
-        let reflected = self.ng.dot(wi) > 0.0;
-        (l.z != 0.0 && reflected == (l.z * self.wo.z > 0.0)).then_some(l)
-    }
-
-    /// f(wo, wi) |cos θi| of the non-delta part.
-    pub fn eval_cos(&self, wi: Vec3) -> Rgb {
-        self.local(wi).map_or(Rgb::BLACK, |l| {
-            self.bsdf.eval(self.wo, l, TransportMode::Radiance) * l.z.abs()
-        })
-    }
-
-    /// Solid-angle density with which BSDF sampling produces the non-delta `wi`.
-    pub fn bsdf_pdf(&self, wi: Vec3) -> f32 {
-        self.local(wi)
-            .map_or(0.0, |l| self.bsdf.pdf(self.wo, l, TransportMode::Radiance))
+        self.agrees(wi, l).then_some(l)
     }
 
     /// Where a ray in direction `wi` leaves from: the point pushed off the surface on `wi`'s side.
@@ -104,7 +95,10 @@ pub(super) fn light_sample(
     if ls.li.is_black() || !ls.wi.is_finite() {
         return Rgb::BLACK;
     }
-    let f_cos = sh.eval_cos(ls.wi);
+    let Some(l) = sh.local(ls.wi) else {
+        return Rgb::BLACK;
+    };
+    let f_cos = sh.bsdf.eval(sh.wo, l, TransportMode::Radiance) * l.z.abs();
     if f_cos.is_black() {
         return Rgb::BLACK;
     }
@@ -115,11 +109,27 @@ pub(super) fn light_sample(
     }
     let weight = match strategy.mis {
         Some((heuristic, n_bsdf)) if !ls.delta => {
-            heuristic.weight(strategy.samples * p_pick * ls.pdf, n_bsdf * sh.bsdf_pdf(ls.wi))
+            let p_bsdf = sh.bsdf.pdf(sh.wo, l, TransportMode::Radiance);
+            heuristic.weight(strategy.samples * p_pick * ls.pdf, n_bsdf * p_bsdf)
         }
         _ => 1.0,
     };
     f_cos * ls.li * (weight / (p_pick * ls.pdf * strategy.samples))
+}
+
+/// The MIS weight of a BSDF sample (density `n_bsdf` x `p_bsdf`) that left the scene in
+/// direction `dir` and met the environment light `index`, against `n_light` light samples
+/// per shading point with lights chosen by `selection`.
+pub(super) fn environment_weight(
+    scene: &Scene,
+    (selection, heuristic): (LightSelection, MisHeuristic),
+    (index, env): (u32, &Environment),
+    dir: Vec3,
+    (n_bsdf, p_bsdf): (f32, f32),
+    n_light: f32,
+) -> f32 {
+    let p_light = scene.lights.pmf(selection, index) * env.pdf(dir);
+    heuristic.weight(n_bsdf * p_bsdf, n_light * p_light)
 }
 
 /// The MIS weight of a BSDF sample from `p` (density `n_bsdf` x `p_bsdf`) that reached

@@ -1,9 +1,10 @@
 //! Unidirectional path tracing of the rendering equation (Kajiya 1986), as pbrt-v4's
 //! `PathIntegrator` and Mitsuba 3's `path` do it: one random continuation per bounce drawn
-//! from the material, next-event estimation at every non-specular vertex (one shadow ray to
-//! a light picked by power, solid-angle sampled unless it is a small flat light), emitters reached by the continuation rays
-//! weighted against it by the power heuristic (Veach and Guibas 1995), and Russian roulette
-//! from `rr_depth` on with survival probability min(max throughput channel, 0.95).
+//! from the BSDF, next-event estimation at every vertex with a non-delta part (one shadow
+//! ray to a light picked by power, solid-angle sampled unless it is a small flat light),
+//! emitters and the environment reached by the continuation rays weighted against it by the
+//! power heuristic (Veach and Guibas 1995), and Russian roulette from `rr_depth` on with
+//! survival probability min(max throughput channel × η², 0.95).
 //!
 //! `max_depth` has Mitsuba's meaning: the largest number of path segments, so 1 shows the
 //! emitters only, 2 gives direct lighting, and each further unit one more bounce.
@@ -49,12 +50,12 @@ impl Integrator for PathTracer {
                 // The environment, weighted against its light sampling as an emitter is.
                 radiance += beta
                     * match scene.environment() {
-                        Some((index, env)) => {
+                        Some(env) => {
                             let weight = previous.map_or(1.0, |(_, p_bsdf)| {
-                                let p_light = scene.lights.pmf(selection, index) * env.pdf(ray.dir);
-                                heuristic.weight(p_bsdf, p_light)
+                                let mis = (selection, heuristic);
+                                nee::environment_weight(scene, mis, env, ray.dir, (1.0, p_bsdf), 1.0)
                             });
-                            env.le(ray.dir) * weight
+                            env.1.le(ray.dir) * weight
                         }
                         None => scene.background,
                     };
@@ -101,7 +102,7 @@ impl Integrator for PathTracer {
                 break;
             };
             let wi = sh.frame.to_world(bs.wi);
-            if sh.local(wi).is_none() {
+            if !sh.agrees(wi, bs.wi) {
                 break;
             }
             beta *= bs.weight;

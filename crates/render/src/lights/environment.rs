@@ -9,21 +9,14 @@
 //! proportional to the luminance it samples.
 
 use super::LightSample;
+use crate::texture::TextureImage;
 use glam::{Mat3, Vec2, Vec3};
 use penumbra_core::{warp, Distribution2D, Rgb};
 use std::f32::consts::PI;
 
-/// An equirectangular image: `width` x `height` linear RGB pixels, row 0 at the top (θ = 0).
-#[derive(Clone, Debug, PartialEq)]
-pub struct EnvImage {
-    pub width: usize,
-    pub height: usize,
-    pub pixels: Vec<Rgb>,
-}
-
 #[derive(Clone, Debug, PartialEq)]
 pub struct Environment {
-    image: Option<(EnvImage, Distribution2D)>,
+    image: Option<(TextureImage, Distribution2D)>,
     /// The radiance of a constant environment, or the image's multiplier.
     scale: Rgb,
     /// From the map's frame to the world, and back.
@@ -45,9 +38,10 @@ impl Environment {
         }
     }
 
-    /// An equirectangular map times `scale`, turned by the rotation `to_world`. An error
-    /// when a pixel is negative or not finite, or the map is black.
-    pub fn image(image: EnvImage, scale: Rgb, to_world: Mat3) -> Result<Self, String> {
+    /// An equirectangular map (row 0 at the top, θ = 0) times `scale`, turned by the
+    /// rotation `to_world`. An error when a pixel is negative or not finite, or the map is
+    /// black.
+    pub fn image(image: TextureImage, scale: Rgb, to_world: Mat3) -> Result<Self, String> {
         let (w, h) = (image.width, image.height);
         if w == 0 || h == 0 || image.pixels.len() != w * h {
             return Err(format!("the map has {} pixels, not {w} x {h}", image.pixels.len()));
@@ -157,7 +151,7 @@ impl Environment {
 
 /// ∫ g(L) dω over the sphere for a map constant over each pixel: each pixel of row y spans
 /// 2π/width in φ and cos θ0 − cos θ1 in cos θ.
-fn solid_angle_integral(image: &EnvImage, g: impl Fn(Rgb) -> f64) -> f64 {
+fn solid_angle_integral(image: &TextureImage, g: impl Fn(Rgb) -> f64) -> f64 {
     let (w, h) = (image.width, image.height);
     image
         .pixels
@@ -176,7 +170,7 @@ mod tests {
     use super::*;
 
     /// A small map with a bright spot, a dark band and a black corner.
-    fn map() -> EnvImage {
+    fn map() -> TextureImage {
         let (width, height) = (16, 8);
         let pixels = (0..width * height)
             .map(|i| {
@@ -189,7 +183,7 @@ mod tests {
                 }
             })
             .collect();
-        EnvImage { width, height, pixels }
+        TextureImage { width, height, pixels }
     }
 
     #[test]
@@ -262,7 +256,7 @@ mod tests {
         assert!(Environment::image(m, Rgb::WHITE, Mat3::IDENTITY)
             .unwrap_err()
             .contains("(5, 0)"));
-        let black = EnvImage {
+        let black = TextureImage {
             width: 2,
             height: 2,
             pixels: vec![Rgb::BLACK; 4],

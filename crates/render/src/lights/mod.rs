@@ -18,7 +18,7 @@ mod spot;
 
 pub use area::{AreaLight, AreaSampling};
 pub use directional::Directional;
-pub use environment::{EnvImage, Environment};
+pub use environment::Environment;
 pub use point::Point;
 pub use set::{LightSelection, LightSet, LightSetBuilder};
 pub use spot::Spot;
