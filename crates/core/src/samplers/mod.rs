@@ -62,6 +62,8 @@ pub(crate) struct Key {
     pub index: u32,
     /// Samples per pixel: the number of strata.
     pub count: u32,
+    /// The 2D stratified pattern's columns and rows for `count` samples.
+    pub grid: [u32; 2],
 }
 
 impl Key {
@@ -77,6 +79,7 @@ pub struct PixelSampler {
     kind: SamplerKind,
     seed: u64,
     spp: u32,
+    grid: [u32; 2],
     index: u32,
     dimension: u32,
     /// Hash of the seed and pixel, the start of the pixel's sequence of dimension hashes.
@@ -89,6 +92,7 @@ impl PixelSampler {
             kind,
             seed,
             spp: spp.max(1),
+            grid: stratified::grid(spp.max(1)),
             index: 0,
             dimension: 0,
             pixel_hash: 0,
@@ -115,6 +119,7 @@ impl PixelSampler {
             pattern,
             index: self.index,
             count: self.spp,
+            grid: self.grid,
         }
     }
 

@@ -113,7 +113,9 @@ mod tests {
     #[test]
     fn table_lookup_equals_the_bit_loop() {
         let by_bits = |index: u32, dim: usize| {
-            (0..32).filter(|b| index >> b & 1 != 0).fold(0, |x, b| x ^ DIRECTIONS[dim][b])
+            (0..32)
+                .filter(|b| index >> b & 1 != 0)
+                .fold(0, |x, b| x ^ DIRECTIONS[dim][b])
         };
         let mut i = 0u32;
         for step in 0..100_000u32 {

@@ -16,8 +16,7 @@ pub(super) fn sample_1d(key: &Key) -> f32 {
 pub(super) fn sample_2d(key: &Key) -> Vec2 {
     let p = key.pattern as u32;
     let n_total = key.count;
-    let m = ((n_total as f32).sqrt() as u32).max(1);
-    let n = n_total.div_ceil(m);
+    let [m, n] = key.grid;
     let s = permute(key.index, n_total, p.wrapping_mul(0x51633e2d));
     let sx = permute(s % m, m, p.wrapping_mul(0x68bc21eb));
     let sy = permute(s / m, n, p.wrapping_mul(0x02e5be93));
@@ -62,7 +61,18 @@ pub(super) fn permute(mut i: u32, l: u32, p: u32) -> u32 {
             break;
         }
     }
-    (i.wrapping_add(p)) % l
+    // Kensler's final `(i + p) % l` as a rotation by an offset drawn from `p` by a
+    // multiply-high (Lemire 2019) instead of a division: still a permutation of [0, l).
+    let offset = ((p as u64 * l as u64) >> 32) as u32;
+    let j = i as u64 + offset as u64;
+    (if j >= l as u64 { j - l as u64 } else { j }) as u32
+}
+
+/// The `m` x `n` grid of Kensler's 2D pattern for `count` samples: m = floor(sqrt(count)),
+/// n = ceil(count / m). Computed once per sampler.
+pub(super) fn grid(count: u32) -> [u32; 2] {
+    let m = ((count as f32).sqrt() as u32).max(1);
+    [m, count.div_ceil(m)]
 }
 
 /// A hashed float in [0, 1) (Kensler, listing 4).
