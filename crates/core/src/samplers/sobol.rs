@@ -28,12 +28,14 @@ const fn directions() -> [[u32; 32]; 2] {
     v
 }
 
-/// The contribution of each byte of an index to a Sobol point: `BYTES[dim][k][b]` is the
-/// XOR of the direction numbers of the bits set in byte value `b` at byte position `k`, so a
-/// point is four table lookups instead of a loop over up to 32 bits.
-static BYTES: [[[u32; 256]; 4]; 2] = byte_tables();
+/// Sobol points in the bit-reversed domain where Burley's scrambles work: for `j` the
+/// bit-reversed index, `REVERSED[dim][k][b]` is the XOR, over the bits set in byte value
+/// `b` at byte position `k` of `j`, of the matching direction numbers bit-reversed. So
+/// `reversed_sobol(j, dim)` = reverse(sobol(reverse(j), dim)) in four table lookups, and a
+/// scrambled point costs two bit reversals instead of four.
+static REVERSED: [[[u32; 256]; 4]; 2] = reversed_tables();
 
-const fn byte_tables() -> [[[u32; 256]; 4]; 2] {
+const fn reversed_tables() -> [[[u32; 256]; 4]; 2] {
     let mut t = [[[0u32; 256]; 4]; 2];
     let mut dim = 0;
     while dim < 2 {
@@ -45,7 +47,7 @@ const fn byte_tables() -> [[[u32; 256]; 4]; 2] {
                 let mut bit = 0;
                 while bit < 8 {
                     if b & (1 << bit) != 0 {
-                        x ^= DIRECTIONS[dim][8 * k + bit];
+                        x ^= DIRECTIONS[dim][31 - (8 * k + bit)].reverse_bits();
                     }
                     bit += 1;
                 }
@@ -59,18 +61,19 @@ const fn byte_tables() -> [[[u32; 256]; 4]; 2] {
     t
 }
 
-/// Point `index` of Sobol dimension `dim` (0 or 1), as a 32-bit fixed-point fraction.
+/// reverse(sobol(reverse(j), dim)): Sobol dimension `dim` (0 or 1) in the reversed domain.
 #[inline]
-fn sobol(index: u32, dim: usize) -> u32 {
-    let t = &BYTES[dim];
-    t[0][(index & 0xff) as usize]
-        ^ t[1][(index >> 8 & 0xff) as usize]
-        ^ t[2][(index >> 16 & 0xff) as usize]
-        ^ t[3][(index >> 24) as usize]
+fn reversed_sobol(j: u32, dim: usize) -> u32 {
+    let t = &REVERSED[dim];
+    t[0][(j & 0xff) as usize]
+        ^ t[1][(j >> 8 & 0xff) as usize]
+        ^ t[2][(j >> 16 & 0xff) as usize]
+        ^ t[3][(j >> 24) as usize]
 }
 
 /// Laine and Karras's hash, which scrambles like Owen's nested uniform permutation when
 /// applied to bit-reversed values (Burley's improved constants).
+#[inline]
 fn laine_karras(mut x: u32, seed: u32) -> u32 {
     x = x.wrapping_add(seed);
     x ^= x.wrapping_mul(0x6c50_b47c);
@@ -80,51 +83,80 @@ fn laine_karras(mut x: u32, seed: u32) -> u32 {
     x
 }
 
-/// Owen's nested uniform scramble of the bits of `x` (most significant first).
-pub(super) fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
-    laine_karras(x.reverse_bits(), seed).reverse_bits()
+/// The scramble seeds of a key: the shuffle's and one per coordinate. The pattern is
+/// already a 64-bit hash, so its halves serve for the first two.
+#[inline]
+fn seeds(key: &Key) -> [u32; 3] {
+    [key.pattern as u32, (key.pattern >> 32) as u32, key.seed(2) as u32]
 }
 
-fn seed(key: &Key, k: u64) -> u32 {
-    key.seed(k) as u32
+/// The shuffled index in the reversed domain: reverse(nested_uniform_scramble(index)).
+#[inline]
+fn shuffled_reversed(key: &Key, seed: u32) -> u32 {
+    laine_karras(key.index.reverse_bits(), seed)
 }
 
-fn shuffled(key: &Key) -> u32 {
-    nested_uniform_scramble(key.index, seed(key, 0))
+/// Coordinate `dim` of the point at reversed shuffled index `j`, Owen-scrambled.
+#[inline]
+fn coordinate(j: u32, dim: usize, seed: u32) -> f32 {
+    to_unit(laine_karras(reversed_sobol(j, dim), seed).reverse_bits())
 }
 
 pub(super) fn sample_1d(key: &Key) -> f32 {
-    to_unit(nested_uniform_scramble(sobol(shuffled(key), 0), seed(key, 1)))
+    let s = seeds(key);
+    coordinate(shuffled_reversed(key, s[0]), 0, s[1])
 }
 
 pub(super) fn sample_2d(key: &Key) -> Vec2 {
-    let i = shuffled(key);
-    Vec2::new(
-        to_unit(nested_uniform_scramble(sobol(i, 0), seed(key, 1))),
-        to_unit(nested_uniform_scramble(sobol(i, 1), seed(key, 2))),
-    )
+    let s = seeds(key);
+    let j = shuffled_reversed(key, s[0]);
+    Vec2::new(coordinate(j, 0, s[1]), coordinate(j, 1, s[2]))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// The tables give exactly the bit-by-bit definition of a Sobol point.
+    /// Owen's nested uniform scramble of the bits of `x` (most significant first).
+    fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
+        laine_karras(x.reverse_bits(), seed).reverse_bits()
+    }
+
+    /// Point `index` of Sobol dimension `dim` by its definition: the XOR of the direction
+    /// numbers of the index's set bits.
+    fn sobol(index: u32, dim: usize) -> u32 {
+        (0..32)
+            .filter(|b| index >> b & 1 != 0)
+            .fold(0, |x, b| x ^ DIRECTIONS[dim][b])
+    }
+
+    /// The reversed-domain tables give exactly Burley's scrambled, shuffled Sobol points
+    /// computed from the definition.
     #[test]
-    fn table_lookup_equals_the_bit_loop() {
-        let by_bits = |index: u32, dim: usize| {
-            (0..32)
-                .filter(|b| index >> b & 1 != 0)
-                .fold(0, |x, b| x ^ DIRECTIONS[dim][b])
-        };
+    fn reversed_tables_give_the_scrambled_points_of_the_definition() {
         let mut i = 0u32;
         for step in 0..100_000u32 {
             for dim in 0..2 {
-                assert_eq!(sobol(i, dim), by_bits(i, dim), "index {i} dim {dim}");
+                let j = i.reverse_bits();
+                assert_eq!(
+                    reversed_sobol(j, dim),
+                    sobol(i, dim).reverse_bits(),
+                    "index {i} dim {dim}"
+                );
             }
+            let key = Key {
+                pattern: crate::hash::mix64(step as u64),
+                index: i % 4096,
+                count: 4096,
+                grid: [64, 64],
+            };
+            let s = seeds(&key);
+            let shuffled = nested_uniform_scramble(key.index, s[0]);
+            let expected = [0, 1].map(|d| to_unit(nested_uniform_scramble(sobol(shuffled, d), s[1 + d])));
+            let got = sample_2d(&key);
+            assert_eq!([got.x, got.y], expected, "step {step}");
+            assert_eq!(sample_1d(&key), expected[0]);
             i = i.wrapping_mul(747_796_405).wrapping_add(step);
         }
-        assert_eq!(sobol(0, 1), 0);
-        assert_eq!(sobol(u32::MAX, 0), u32::MAX);
     }
 }
