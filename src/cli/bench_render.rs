@@ -22,8 +22,9 @@ pub struct RenderBenchArgs {
     /// Worker threads (default: one per core).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
-    /// Also run Mitsuba 3 (llvm_ad_rgb) on its Cornell box with the same spp, repeats and
-    /// threads, through ../shared/anchors, and print our speed relative to it.
+    /// Also run Mitsuba 3 on its Cornell box with the same spp, repeats and threads, through
+    /// ../shared/anchors, in its vectorised (llvm_ad_rgb) and its scalar (scalar_rgb)
+    /// variant, and print our speed relative to each.
     #[arg(long)]
     pub mitsuba: bool,
 }
@@ -66,18 +67,20 @@ pub fn run(args: RenderBenchArgs) -> Result<(), Failure> {
         ours * rays_per_sample * 1e-6,
     );
     if args.mitsuba {
-        let theirs = mitsuba(args.spp, args.repeats, pool.current_num_threads()).map_err(bad)?;
-        println!(
-            "mitsuba llvm_ad_rgb (Cornell box, 256x256, max depth 8): {:.3} Msamples/s best; penumbra / mitsuba = {:.2}",
-            theirs * 1e-6,
-            ours / theirs
-        );
+        for variant in ["llvm_ad_rgb", "scalar_rgb"] {
+            let theirs = mitsuba(variant, args.spp, args.repeats, pool.current_num_threads()).map_err(bad)?;
+            println!(
+                "mitsuba {variant} (Cornell box, 256x256, max depth 8): {:.3} Msamples/s best; penumbra / mitsuba = {:.2}",
+                theirs * 1e-6,
+                ours / theirs
+            );
+        }
     }
     Ok(())
 }
 
-/// Mitsuba's best samples per second on its Cornell box, from the anchors' script.
-fn mitsuba(spp: u32, repeats: u32, threads: usize) -> Result<f64, String> {
+/// Mitsuba's best samples per second on its Cornell box in `variant`, from the anchors' script.
+fn mitsuba(variant: &str, spp: u32, repeats: u32, threads: usize) -> Result<f64, String> {
     let anchors = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/anchors");
     let home = std::env::var("HOME").unwrap_or_default();
     let python = PathBuf::from(home).join(".cache/penumbra-anchors/venv/bin/python");
@@ -89,7 +92,7 @@ fn mitsuba(spp: u32, repeats: u32, threads: usize) -> Result<f64, String> {
     }
     let out = Command::new(&python)
         .arg(anchors.join("mitsuba_cbox.py"))
-        .args(["bench", "--variant", "llvm_ad_rgb", "--spps", &spp.to_string()])
+        .args(["bench", "--variant", variant, "--spps", &spp.to_string()])
         .args(["--repeats", &repeats.to_string(), "--threads", &threads.to_string()])
         .output()
         .map_err(|e| format!("cannot run Mitsuba through {}: {e}", python.display()))?;

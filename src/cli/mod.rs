@@ -89,7 +89,7 @@ pub struct RenderArgs {
     /// Acceleration structure: bvh (default), grid, nested-grid, octree, octree-keep, kdtree, list.
     #[arg(long)]
     pub accel: Option<String>,
-    /// Sampler: stratified (default), halton, sobol, independent.
+    /// Sampler: sobol (default), stratified, halton, independent.
     #[arg(long)]
     pub sampler: Option<String>,
     /// Exposure in stops applied to PNG output (the image is multiplied by 2^EV).

@@ -2,7 +2,9 @@
 //!
 //! Every value is a pure function of (seed, pixel, sample index, dimension), so an image is
 //! identical for any thread count or tile order. Parameters (`[render]` in the native format):
-//! `sampler = "independent" | "stratified" | "halton" | "sobol"` (default `stratified`).
+//! `sampler = "independent" | "stratified" | "halton" | "sobol"` (default `sobol`: its every
+//! prefix is well spread, so a render stopped early by `--time` or Ctrl-C is as good as its
+//! sample count allows, and it is the cheapest of the low-discrepancy samplers).
 //!
 //! Adding a sampler: a new file here with a `fn sample_1d/sample_2d(&Key) -> ...` pair, one
 //! variant in [`SamplerKind`] and one arm in each match below.
@@ -22,11 +24,11 @@ pub enum SamplerKind {
     Independent,
     /// Stratified over the pixel's samples in every dimension: correlated multi-jittered
     /// patterns in 2D, jittered permuted strata in 1D (Kensler 2013).
-    #[default]
     Stratified,
     /// Halton points in bases 2 and 3, Owen-scrambled, index permuted per dimension pair.
     Halton,
     /// Sobol points, Owen-scrambled and shuffled by hashing (Burley 2020).
+    #[default]
     Sobol,
 }
 
