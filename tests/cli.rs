@@ -399,3 +399,64 @@ fn bench_render_reports_speed() {
         "{stdout}"
     );
 }
+
+/// `--ref` measures the benchmark's image: against a render of the same scene, seed, sampler
+/// and spp it must be exactly zero; a mismatched size and an unknown sampler are errors.
+#[test]
+fn bench_render_measures_its_error_against_a_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo().join("scenes/box-light.toml");
+    let scene = scene.to_str().unwrap();
+    let reference = dir.path().join("ref.exr");
+    let args = [
+        "render",
+        scene,
+        "--spp",
+        "2",
+        "--sampler",
+        "sobol",
+        "-o",
+        reference.to_str().unwrap(),
+    ];
+    let out = penumbra(dir.path(), &args);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let bench = |extra: &[&str]| {
+        let mut args = vec!["bench", "render", scene, "--spp", "2", "--repeats", "1"];
+        args.extend_from_slice(extra);
+        penumbra(dir.path(), &args)
+    };
+    let out = bench(&["--sampler", "sobol", "--ref", reference.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(stdout.contains("relMSE against the reference: 0.0000e0"), "{stdout}");
+    let out = bench(&["--sampler", "independent", "--ref", reference.to_str().unwrap()]);
+    let stdout = text(&out.stdout);
+    assert!(
+        out.status.success() && stdout.contains("relMSE against the reference") && !stdout.contains("0.0000e0"),
+        "{stdout}"
+    );
+    let out = bench(&["--sampler", "nope"]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("unknown sampler \"nope\""),
+        "{}",
+        text(&out.stderr)
+    );
+    let small = repo().join("scenes/cbox-mitsuba.toml");
+    let out = penumbra(
+        dir.path(),
+        &[
+            "bench",
+            "render",
+            small.to_str().unwrap(),
+            "--spp",
+            "1",
+            "--repeats",
+            "1",
+            "--ref",
+            reference.to_str().unwrap(),
+        ],
+    );
+    assert!(!out.status.success(), "{}", text(&out.stdout));
+    assert!(text(&out.stderr).contains("the reference is"), "{}", text(&out.stderr));
+}

@@ -27,15 +27,43 @@ pub struct RenderBenchArgs {
     /// variant, and print our speed relative to each.
     #[arg(long)]
     pub mitsuba: bool,
+    /// Sampler for our renders (overrides the scene's): sobol, stratified, halton, independent.
+    #[arg(long)]
+    pub sampler: Option<String>,
+    /// A reference image (.exr, .pfm): print our render's relative MSE against it and, with
+    /// --mitsuba, the time each renderer needs for the same error.
+    #[arg(long = "ref", value_name = "R")]
+    pub reference: Option<PathBuf>,
+}
+
+/// What one Mitsuba run reported.
+struct MitsubaRun {
+    samples_per_s: f64,
+    /// Best wall time of the timed renders, seconds.
+    wall: f64,
+    rel_mse: Option<f64>,
 }
 
 pub fn run(args: RenderBenchArgs) -> Result<(), Failure> {
     let bad = |m: String| Failure::BadInput(miette::miette!("{m}"));
     let mut desc = penumbra::scene::read_scene(&args.scene).map_err(|e| Failure::BadInput(e.into()))?;
     desc.render.spp = args.spp;
-    if desc.render.sampler != SamplerKind::Independent {
-        eprintln!("note: the scene uses the {:?} sampler", desc.render.sampler);
+    if let Some(name) = &args.sampler {
+        desc.render.sampler = SamplerKind::from_name(name).ok_or_else(|| {
+            bad(format!(
+                "unknown sampler {name:?} (expected one of {})",
+                SamplerKind::NAMES.join(", ")
+            ))
+        })?;
     }
+    println!("sampler: {:?}", desc.render.sampler);
+    let reference = match &args.reference {
+        Some(path) => Some(
+            penumbra::scene::image_io::read_image(path)
+                .map_err(|e| bad(format!("cannot read {}: {e}", path.display())))?,
+        ),
+        None => None,
+    };
     let threads = args.threads.unwrap_or(0) as usize;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -43,6 +71,7 @@ pub fn run(args: RenderBenchArgs) -> Result<(), Failure> {
         .map_err(|e| Failure::Internal(format!("cannot start worker threads: {e}")))?;
     let mut times = Vec::new();
     let mut rays_per_sample = 0.0;
+    let mut image = Vec::new();
     let samples = desc.render.width as f64 * desc.render.height as f64 * args.spp as f64;
     for _ in 0..args.repeats {
         let start = Instant::now();
@@ -51,6 +80,7 @@ pub fn run(args: RenderBenchArgs) -> Result<(), Failure> {
             .map_err(|e| Failure::BadInput(e.into()))?;
         times.push(start.elapsed().as_secs_f64());
         rays_per_sample = result.stats.rays.total() as f64 / samples;
+        image = result.film.image();
     }
     times.sort_by(f64::total_cmp);
     let (best, median) = (times[0], times[times.len() / 2]);
@@ -66,21 +96,46 @@ pub fn run(args: RenderBenchArgs) -> Result<(), Failure> {
         samples / median * 1e-6,
         ours * rays_per_sample * 1e-6,
     );
+    let our_error = match &reference {
+        Some(r) if r.pixels.len() == image.len() => {
+            let e = penumbra::metrics::compare(&image, &r.pixels).rel_mse;
+            println!("penumbra relMSE against the reference: {e:.4e}");
+            Some(e)
+        }
+        Some(r) => {
+            return Err(bad(format!(
+                "the reference is {}x{}, the render {}x{}",
+                r.width, r.height, desc.render.width, desc.render.height
+            )))
+        }
+        None => None,
+    };
     if args.mitsuba {
         for variant in ["llvm_ad_rgb", "scalar_rgb"] {
             let theirs = mitsuba(variant, args.spp, args.repeats, pool.current_num_threads()).map_err(bad)?;
             println!(
                 "mitsuba {variant} (Cornell box, 256x256, max depth 8): {:.3} Msamples/s best; penumbra / mitsuba = {:.2}",
-                theirs * 1e-6,
-                ours / theirs
+                theirs.samples_per_s * 1e-6,
+                ours / theirs.samples_per_s
             );
+            if let (Some(e), Some(e_theirs)) = (our_error, theirs.rel_mse) {
+                // Error falls as 1/spp for both, so the time to a given error scales with it.
+                let ours_to_theirs = best * e / e_theirs;
+                println!(
+                    "  to mitsuba's relMSE {e_theirs:.4e} at {} spp ({:.3} s): penumbra needs about {ours_to_theirs:.3} s (our {e:.4e} x {best:.3} s, error taken as 1/spp) = {:.2}x its time",
+                    args.spp,
+                    theirs.wall,
+                    ours_to_theirs / theirs.wall
+                );
+            }
         }
     }
     Ok(())
 }
 
-/// Mitsuba's best samples per second on its Cornell box in `variant`, from the anchors' script.
-fn mitsuba(variant: &str, spp: u32, repeats: u32, threads: usize) -> Result<f64, String> {
+/// Mitsuba's best samples per second, best wall time and relative MSE on its Cornell box in
+/// `variant`, from the anchors' script.
+fn mitsuba(variant: &str, spp: u32, repeats: u32, threads: usize) -> Result<MitsubaRun, String> {
     let anchors = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/anchors");
     let home = std::env::var("HOME").unwrap_or_default();
     let python = PathBuf::from(home).join(".cache/penumbra-anchors/venv/bin/python");
@@ -97,10 +152,18 @@ fn mitsuba(variant: &str, spp: u32, repeats: u32, threads: usize) -> Result<f64,
         .output()
         .map_err(|e| format!("cannot run Mitsuba through {}: {e}", python.display()))?;
     let text = String::from_utf8_lossy(&out.stdout);
-    // "... -> 4.912 Msamples/s best, relMSE=..."
+    // "llvm_ad_rgb  thr=2 spp=   64 wall min/med = 1.361/1.364s (load 8.6 ms) -> 3.081 Msamples/s best, relMSE=0.00133"
+    let number = |line: &str, after: &str, end: char| -> Option<f64> {
+        line.split(after).nth(1)?.split(end).next()?.trim().parse().ok()
+    };
     text.lines()
-        .find_map(|l| l.split("-> ").nth(1)?.split(' ').next()?.parse::<f64>().ok())
-        .map(|m| m * 1e6)
+        .find_map(|l| {
+            Some(MitsubaRun {
+                samples_per_s: number(l, "-> ", ' ')? * 1e6,
+                wall: number(l, "min/med = ", '/')?,
+                rel_mse: number(l, "relMSE=", ' '),
+            })
+        })
         .ok_or_else(|| {
             format!(
                 "no speed in Mitsuba's output:\n{text}{}",
