@@ -14,5 +14,5 @@ pub(super) fn sample_2d(key: &Key) -> Vec2 {
 }
 
 fn bits(key: &Key) -> u64 {
-    mix64(key.pattern ^ mix64(key.index as u64))
+    mix64(key.pattern ^ key.index_hash)
 }

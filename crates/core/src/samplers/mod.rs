@@ -62,6 +62,8 @@ pub(crate) struct Key {
     pub pattern: u64,
     /// The sample's index within the pixel.
     pub index: u32,
+    /// `mix64(index)`, worked out once per sample rather than once per dimension.
+    pub index_hash: u64,
     /// Samples per pixel: the number of strata.
     pub count: u32,
     /// The 2D stratified pattern's columns and rows for `count` samples.
@@ -83,6 +85,7 @@ pub struct PixelSampler {
     spp: u32,
     grid: [u32; 2],
     index: u32,
+    index_hash: u64,
     dimension: u32,
     /// Hash of the seed and pixel, the start of the pixel's sequence of dimension hashes.
     pixel_hash: u64,
@@ -96,6 +99,7 @@ impl PixelSampler {
             spp: spp.max(1),
             grid: stratified::grid(spp.max(1)),
             index: 0,
+            index_hash: crate::hash::mix64(0),
             dimension: 0,
             pixel_hash: 0,
         }
@@ -104,6 +108,7 @@ impl PixelSampler {
     /// Starts sample `index` of `pixel`; dimensions restart from zero.
     pub fn start(&mut self, pixel: UVec2, index: u32) {
         self.index = index;
+        self.index_hash = crate::hash::mix64(index as u64);
         self.dimension = 0;
         self.pixel_hash = hash_words(&[self.seed, pixel.x as u64, pixel.y as u64]);
     }
@@ -120,6 +125,7 @@ impl PixelSampler {
         Key {
             pattern,
             index: self.index,
+            index_hash: self.index_hash,
             count: self.spp,
             grid: self.grid,
         }

@@ -147,6 +147,7 @@ mod tests {
             let key = Key {
                 pattern: crate::hash::mix64(step as u64),
                 index: i % 4096,
+                index_hash: crate::hash::mix64((i % 4096) as u64),
                 count: 4096,
                 grid: [64, 64],
             };
