@@ -16,8 +16,9 @@ use std::mem::MaybeUninit;
 use std::sync::Arc;
 
 const BINS: usize = 16;
-/// Leaves hold at most this many primitives unless their centroids coincide.
-const MAX_LEAF: usize = 4;
+/// Leaves hold at most this many primitives unless their centroids coincide. Two leaves of
+/// two triangles share one packet of four (see [`align_leaves`]).
+const MAX_LEAF: usize = 2;
 /// Largest leaf of primitives whose centroids all coincide (they cannot be split by position).
 const MAX_COINCIDENT_LEAF: usize = 64;
 /// Subtrees with more primitives than this are built on another thread.
@@ -603,10 +604,11 @@ fn choose_split(prims: &mut [PrimInfo], group: usize) -> Option<usize> {
     // Sets larger than a leaf are always split, even where the SAH's leaf cost is lower:
     // the SAH weighs a box by the chance that a ray from outside meets it, but in a closed
     // room every ray starts inside, and a leaf of big triangles from different walls spans
-    // the room and is entered by every ray. Splitting the Cornell box down to four-triangle
-    // leaves halved its triangle tests per ray (11.4 to 4.8 for camera rays) and did not
-    // slow the 327,680-triangle test mesh (docs/performance.md).
-    if !best.0.is_finite() || prims.len() <= MAX_LEAF.max(group) {
+    // the room and is entered by every ray. Splitting the Cornell box down to leaves of two
+    // triangles cut its triangle tests per camera ray from 11.4 to 2.0 (and the path
+    // tracer's instructions per sample by 10%); on the 327,680-triangle test mesh camera
+    // rays got faster and random ones stayed as fast (docs/performance.md).
+    if !best.0.is_finite() || prims.len() <= MAX_LEAF {
         return None;
     }
     let mut mid = 0;
@@ -619,13 +621,17 @@ fn choose_split(prims: &mut [PrimInfo], group: usize) -> Option<usize> {
     Some(mid)
 }
 
-/// Moves every leaf's run of slots to start at a multiple of `group`, filling the gaps with
-/// [`PAD`]; returns the padded order. Leaves are numbered in depth-first order, which is the
-/// order of their runs.
+/// Moves every leaf's run of slots that would straddle a boundary between groups of `group`
+/// slots to start at the next multiple of `group`, filling the gap with [`PAD`]; returns
+/// the padded order. Leaves that fit in what is left of a group share it (two leaves of two
+/// triangles fill one packet of four, each tested with its own lanes), so small leaves cost
+/// no memory. Leaves are numbered in depth-first order, which is the order of their runs.
 fn align_leaves(binary: &mut [Node], order: &[u32], group: usize) -> Vec<u32> {
     let mut padded = Vec::with_capacity(order.len() + order.len() / 2);
     for node in binary.iter_mut().filter(|n| n.count > 0) {
-        padded.resize(padded.len().next_multiple_of(group), PAD);
+        if padded.len() % group + node.count as usize > group {
+            padded.resize(padded.len().next_multiple_of(group), PAD);
+        }
         let run = node.offset as usize..node.offset as usize + node.count as usize;
         node.offset = padded.len() as u32;
         padded.extend_from_slice(&order[run]);

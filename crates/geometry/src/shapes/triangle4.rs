@@ -8,7 +8,7 @@
 //! test. So the packet answers exactly as four scalar tests would, bit for bit.
 
 use super::triangle::{intersect_triangle_prepared, TriangleRay};
-use glam::{BVec4A, Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 
 /// Four triangles: `v[3 * k + axis]` holds coordinate `axis` of vertex `k`, one triangle per
 /// lane. Unused lanes hold NaN vertices, which no ray hits.
@@ -54,18 +54,21 @@ impl Triangle4 {
     #[inline(always)]
     pub fn closest(&self, r: &TriangleRay, t_max: f32, active: u32) -> Option<LaneHit> {
         let hits = self.test(r, t_max, active);
-        if hits.mask == 0 && hits.fallback == 0 {
-            return None;
-        }
-        // Lanes needing the scalar test, or hit lanes outside `active`: the general path.
-        if hits.fallback != 0 || hits.valid.bitmask() != hits.mask {
+        if hits.fallback != 0 {
             return self.closest_with_fallback(r, t_max, &hits);
         }
-        // The smallest distance among the hit lanes, then the lowest lane that has it.
-        let t = Vec4::select(hits.valid, hits.t, Vec4::INFINITY);
-        let t_min = t.min_element();
-        let lane = (t.cmpeq(Vec4::splat(t_min)).bitmask() & hits.mask).trailing_zeros() as usize;
-        Some((lane, t_min, Vec2::new(hits.b1[lane], hits.b2[lane])))
+        // The smallest distance among the active hit lanes, the lowest lane of equal ones
+        // (lanes outside `active`, another leaf's triangles, are skipped).
+        let mut lanes = hits.mask;
+        let mut best: Option<LaneHit> = None;
+        while lanes != 0 {
+            let lane = lanes.trailing_zeros() as usize;
+            lanes &= lanes - 1;
+            if best.is_none_or(|b| hits.t[lane] < b.1) {
+                best = Some((lane, hits.t[lane], Vec2::new(hits.b1[lane], hits.b2[lane])));
+            }
+        }
+        best
     }
 
     /// [`Triangle4::closest`] when some lanes need the scalar test.
@@ -139,7 +142,6 @@ impl Triangle4 {
         let valid = in_range & t.cmpgt(zero) & t.cmplt(Vec4::splat(t_max));
         Lanes {
             mask: valid.bitmask() & active & !fallback,
-            valid,
             fallback,
             t,
             b1: e1 * inv_det,
@@ -148,12 +150,10 @@ impl Triangle4 {
     }
 }
 
-/// What the SIMD part of the test found: the active lanes hit (`mask`), every lane hit
-/// (`valid`, active or not), the lanes that need the scalar test, and every lane's distance
-/// and barycentrics.
+/// What the SIMD part of the test found: the active lanes hit (`mask`), the lanes that need
+/// the scalar test, and every lane's distance and barycentrics.
 struct Lanes {
     mask: u32,
-    valid: BVec4A,
     fallback: u32,
     t: Vec4,
     b1: Vec4,
