@@ -1,13 +1,22 @@
 //! Owen-scrambled Halton points: each 2D request takes the radical inverses in bases 2 and
 //! 3 (Halton 1964) of the sample's index, with every digit permuted by a hash of the digits
-//! above it (Owen's nested scrambling, as pbrt-v4's `OwenScrambledRadicalInverse` does),
-//! at an index permuted within the pixel's samples (Kensler's permutation) so that the
+//! above it (Owen's nested scrambling, as pbrt-v4's `OwenScrambledRadicalInverse` does; in
+//! base 2 by one Laine-Karras hash, as the Sobol sampler scrambles), at an index permuted within the pixel's samples (Kensler's permutation) so that the
 //! pairs of different dimensions do not correlate.
 
+use super::sobol::laine_karras;
 use super::stratified::permute;
 use super::{Key, ONE_MINUS_EPSILON};
-use crate::hash::mix64;
+use crate::hash::{mix64, u32_to_unit as to_unit};
 use glam::Vec2;
+
+/// The radical inverse of `a` in base 2, Owen-scrambled: the base-2 radical inverse is the
+/// bit reversal of `a`, and Owen's nested scramble of a bit-reversed value is the
+/// Laine-Karras hash of the unreversed one (Burley 2020), so one hash does the work of a
+/// digit-by-digit scramble.
+fn scrambled_radical_inverse_2(a: u32, seed: u64) -> f32 {
+    to_unit(laine_karras(a, seed as u32).reverse_bits())
+}
 
 /// The radical inverse of `a` in `base`, each digit permuted by a hash of `seed` and the
 /// digits below it in `a` (the ones above it in the result), down to float precision.
@@ -20,7 +29,7 @@ fn scrambled_radical_inverse(mut a: u32, base: u32, seed: u64) -> f32 {
         a /= base;
         // The permutation depends on the digits above and on the position: prefixes of
         // different lengths with the same value ("0" and "00") must not share one.
-        let hash = mix64(seed ^ mix64(reversed ^ k << 58)) as u32;
+        let hash = mix64(seed ^ reversed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ k << 58) as u32;
         k += 1;
         reversed = reversed * base as u64 + permute_digit(digit, base, hash) as u64;
         inv_base_m *= inv_base;
@@ -47,13 +56,13 @@ fn index(key: &Key) -> u32 {
 }
 
 pub(super) fn sample_1d(key: &Key) -> f32 {
-    scrambled_radical_inverse(index(key), 2, key.seed(1))
+    scrambled_radical_inverse_2(index(key), key.seed(1))
 }
 
 pub(super) fn sample_2d(key: &Key) -> Vec2 {
     let i = index(key);
     Vec2::new(
-        scrambled_radical_inverse(i, 2, key.seed(1)),
+        scrambled_radical_inverse_2(i, key.seed(1)),
         scrambled_radical_inverse(i, 3, key.seed(2)),
     )
 }

@@ -74,7 +74,7 @@ fn reversed_sobol(j: u32, dim: usize) -> u32 {
 /// Laine and Karras's hash, which scrambles like Owen's nested uniform permutation when
 /// applied to bit-reversed values (Burley's improved constants).
 #[inline]
-fn laine_karras(mut x: u32, seed: u32) -> u32 {
+pub(super) fn laine_karras(mut x: u32, seed: u32) -> u32 {
     x = x.wrapping_add(seed);
     x ^= x.wrapping_mul(0x6c50_b47c);
     x ^= x.wrapping_mul(0xb82f_1e52);
