@@ -16,9 +16,14 @@ use std::mem::MaybeUninit;
 use std::sync::Arc;
 
 const BINS: usize = 16;
-/// Leaves hold at most this many primitives unless their centroids coincide. Two leaves of
-/// two triangles share one packet of four (see [`align_leaves`]).
-const MAX_LEAF: usize = 2;
+/// Leaves hold at most this many primitives unless their centroids coincide: two in sets of
+/// up to [`SMALL_SET`] primitives, four in larger ones. Two leaves of two triangles share
+/// one packet of four (see [`align_leaves`]), so the finer tree costs nodes, not packets:
+/// about 1.7 times the node memory, which a small set's tree keeps in cache (its nodes take
+/// at most about 1 MiB) and a large one's does not.
+const MAX_LEAF: usize = 4;
+const MAX_SMALL_SET_LEAF: usize = 2;
+const SMALL_SET: usize = 16_384;
 /// Largest leaf of primitives whose centroids all coincide (they cannot be split by position).
 const MAX_COINCIDENT_LEAF: usize = 64;
 /// Subtrees with more primitives than this are built on another thread.
@@ -98,8 +103,13 @@ impl<P: PrimitiveSet> Bvh<P> {
         // A subtree over n primitives has at most 2n - 1 nodes: each subtree builds into its
         // own range of one array, so the threads never copy or merge node lists.
         let mut binary = vec![Node::UNUSED; (2 * info.len()).saturating_sub(1)];
+        let max_leaf = if info.len() <= SMALL_SET {
+            MAX_SMALL_SET_LEAF
+        } else {
+            MAX_LEAF
+        };
         if !info.is_empty() {
-            build(&mut info, 0, 0, group, &mut binary, 0);
+            build(&mut info, 0, 0, (group, max_leaf), &mut binary, 0);
         }
         let mut order: Vec<u32> = info.iter().map(|p| p.index).collect();
         if group > 1 {
@@ -479,7 +489,8 @@ const MAX_DEPTH: usize = 40;
 /// `out[0]` (index `base` of the whole array), its first child right after it and its
 /// second child after the first child's range; leaves point at `first + index within
 /// prims`. `out` has room for `2 * prims.len() - 1` nodes.
-fn build(prims: &mut [PrimInfo], first: usize, depth: usize, group: usize, out: &mut [Node], base: usize) {
+/// `leaves` is (primitives tested at once, most primitives per leaf).
+fn build(prims: &mut [PrimInfo], first: usize, depth: usize, leaves: (usize, usize), out: &mut [Node], base: usize) {
     let bounds = fold(prims, Aabb::EMPTY, |b, p| *b = b.union(p.bounds), Aabb::union);
     let leaf = Node {
         min: bounds.min.into(),
@@ -491,7 +502,7 @@ fn build(prims: &mut [PrimInfo], first: usize, depth: usize, group: usize, out: 
         out[0] = leaf;
         return;
     }
-    let mid = match choose_split(prims, group) {
+    let mid = match choose_split(prims, leaves) {
         Some(mid) => mid,
         None => {
             // The set fits a leaf, or every centroid coincides: a leaf unless it is too large,
@@ -516,8 +527,8 @@ fn build(prims: &mut [PrimInfo], first: usize, depth: usize, group: usize, out: 
     let parallel = mid.min(prims.len() - mid) > PARALLEL_THRESHOLD / 2;
     let (left, right) = prims.split_at_mut(mid);
     let (left_out, right_out) = out[1..].split_at_mut(second - 1);
-    let mut build_left = move || build(left, first, depth + 1, group, left_out, base + 1);
-    let mut build_right = move || build(right, first + mid, depth + 1, group, right_out, base + second);
+    let mut build_left = move || build(left, first, depth + 1, leaves, left_out, base + 1);
+    let mut build_right = move || build(right, first + mid, depth + 1, leaves, right_out, base + second);
     if parallel {
         rayon::join(build_left, build_right);
     } else {
@@ -553,7 +564,7 @@ fn fold<T: Copy + Send + Sync>(
 /// `prims` in place. `None` when the set fits a leaf or centroids coincide. Primitives are
 /// tested `group` at a time, so a side of `n` costs `ceil(n / group)` tests (as in
 /// Embree's builders for its four-triangle leaves).
-fn choose_split(prims: &mut [PrimInfo], group: usize) -> Option<usize> {
+fn choose_split(prims: &mut [PrimInfo], (group, max_leaf): (usize, usize)) -> Option<usize> {
     let blocks = |n: usize| n.div_ceil(group) as f32;
     let centroids = fold(prims, Aabb::EMPTY, |b, p| *b = b.grow(p.centroid), Aabb::union);
     let axis = centroids.max_axis();
@@ -605,10 +616,9 @@ fn choose_split(prims: &mut [PrimInfo], group: usize) -> Option<usize> {
     // the SAH weighs a box by the chance that a ray from outside meets it, but in a closed
     // room every ray starts inside, and a leaf of big triangles from different walls spans
     // the room and is entered by every ray. Splitting the Cornell box down to leaves of two
-    // triangles cut its triangle tests per camera ray from 11.4 to 2.0 (and the path
-    // tracer's instructions per sample by 10%); on the 327,680-triangle test mesh camera
-    // rays got faster and random ones stayed as fast (docs/performance.md).
-    if !best.0.is_finite() || prims.len() <= MAX_LEAF {
+    // triangles cut its triangle tests per camera ray from 11.4 to 2.0 and the path
+    // tracer's instructions per sample from 11,000 to 8,400 (docs/performance.md).
+    if !best.0.is_finite() || prims.len() <= max_leaf {
         return None;
     }
     let mut mid = 0;
