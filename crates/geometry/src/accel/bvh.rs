@@ -16,18 +16,57 @@ use std::mem::MaybeUninit;
 use std::sync::Arc;
 
 const BINS: usize = 16;
-/// Leaves hold at most this many primitives unless their centroids coincide: two in sets of
-/// up to [`SMALL_SET`] primitives, four in larger ones. Two leaves of two triangles share
-/// one packet of four (see [`align_leaves`]), so the finer tree costs nodes, not packets:
-/// about 1.7 times the node memory, which a small set's tree keeps in cache (its nodes take
-/// at most about 1 MiB) and a large one's does not.
+/// Leaves of large sets hold at most this many primitives unless their centroids coincide,
+/// or twice as many where the SAH finds a leaf cheaper than a split.
 const MAX_LEAF: usize = 4;
-const MAX_SMALL_SET_LEAF: usize = 2;
+/// Sets of up to this many primitives are built finer: split down to leaves of at most
+/// [`MAX_SMALL_SET_LEAF`], whatever the SAH says. The SAH weighs a box by the chance that a
+/// ray from outside meets it, but in a closed room every ray starts inside, and a leaf of
+/// big triangles from different walls spans the room and is entered by every ray: on the
+/// Cornell box this cut triangle tests per camera ray from 11.4 to 2.0 and the path
+/// tracer's instructions per sample from 11,000 to 8,400 (docs/performance.md). Two leaves
+/// of two triangles share one packet of four (see [`align_leaves`]), so the finer tree
+/// costs only nodes, about 1.7 times as many, which a small set's tree keeps in cache (at
+/// most about 1 MiB) and a large one's would not (random rays on the 327,680-triangle test
+/// mesh lost some 8%, so large sets keep the SAH's leaves).
 const SMALL_SET: usize = 16_384;
+const MAX_SMALL_SET_LEAF: usize = 2;
+
+/// How a build makes leaves.
+#[derive(Clone, Copy)]
+struct LeafRule {
+    /// Primitives tested at once: a side of `n` costs `ceil(n / group)` tests.
+    group: usize,
+    /// Sets of at most this many primitives become leaves.
+    max: usize,
+    /// Whether a set of up to `2 * max` may stay a leaf where the SAH finds that cheaper.
+    sah: bool,
+}
+
+impl LeafRule {
+    fn for_set(len: usize, group: usize) -> Self {
+        if len <= SMALL_SET {
+            LeafRule {
+                group,
+                max: MAX_SMALL_SET_LEAF,
+                sah: false,
+            }
+        } else {
+            LeafRule {
+                group,
+                max: MAX_LEAF.max(group),
+                sah: true,
+            }
+        }
+    }
+}
 /// Largest leaf of primitives whose centroids all coincide (they cannot be split by position).
 const MAX_COINCIDENT_LEAF: usize = 64;
 /// Subtrees with more primitives than this are built on another thread.
 const PARALLEL_THRESHOLD: usize = 4096;
+/// SAH costs of a node traversal and a primitive test.
+const TRAVERSAL_COST: f32 = 1.0;
+const INTERSECT_COST: f32 = 1.0;
 
 /// A node of the binary build tree: an interior node's first child follows it, `offset` is
 /// its second child; a leaf (`count > 0`) holds primitives `order[offset..offset + count]`.
@@ -103,13 +142,9 @@ impl<P: PrimitiveSet> Bvh<P> {
         // A subtree over n primitives has at most 2n - 1 nodes: each subtree builds into its
         // own range of one array, so the threads never copy or merge node lists.
         let mut binary = vec![Node::UNUSED; (2 * info.len()).saturating_sub(1)];
-        let max_leaf = if info.len() <= SMALL_SET {
-            MAX_SMALL_SET_LEAF
-        } else {
-            MAX_LEAF
-        };
+        let rule = LeafRule::for_set(info.len(), group);
         if !info.is_empty() {
-            build(&mut info, 0, 0, (group, max_leaf), &mut binary, 0);
+            build(&mut info, 0, 0, rule, &mut binary, 0);
         }
         let mut order: Vec<u32> = info.iter().map(|p| p.index).collect();
         if group > 1 {
@@ -489,8 +524,7 @@ const MAX_DEPTH: usize = 40;
 /// `out[0]` (index `base` of the whole array), its first child right after it and its
 /// second child after the first child's range; leaves point at `first + index within
 /// prims`. `out` has room for `2 * prims.len() - 1` nodes.
-/// `leaves` is (primitives tested at once, most primitives per leaf).
-fn build(prims: &mut [PrimInfo], first: usize, depth: usize, leaves: (usize, usize), out: &mut [Node], base: usize) {
+fn build(prims: &mut [PrimInfo], first: usize, depth: usize, leaves: LeafRule, out: &mut [Node], base: usize) {
     let bounds = fold(prims, Aabb::EMPTY, |b, p| *b = b.union(p.bounds), Aabb::union);
     let leaf = Node {
         min: bounds.min.into(),
@@ -502,10 +536,10 @@ fn build(prims: &mut [PrimInfo], first: usize, depth: usize, leaves: (usize, usi
         out[0] = leaf;
         return;
     }
-    let mid = match choose_split(prims, leaves) {
+    let mid = match choose_split(prims, &bounds, leaves) {
         Some(mid) => mid,
         None => {
-            // The set fits a leaf, or every centroid coincides: a leaf unless it is too large,
+            // A leaf is as good, or every centroid coincides: a leaf unless it is too large,
             // in which case halve the set by index.
             if prims.len() <= MAX_COINCIDENT_LEAF {
                 out[0] = leaf;
@@ -561,10 +595,11 @@ fn fold<T: Copy + Send + Sync>(
 }
 
 /// The best binned SAH split: the number of primitives on the left, after partitioning
-/// `prims` in place. `None` when the set fits a leaf or centroids coincide. Primitives are
-/// tested `group` at a time, so a side of `n` costs `ceil(n / group)` tests (as in
-/// Embree's builders for its four-triangle leaves).
-fn choose_split(prims: &mut [PrimInfo], (group, max_leaf): (usize, usize)) -> Option<usize> {
+/// `prims` in place. `None` when a leaf will do (see [`LeafRule`]) or centroids coincide.
+/// Primitives are tested `group` at a time, so a side of `n` costs `ceil(n / group)` tests
+/// (as in Embree's builders for its four-triangle leaves).
+fn choose_split(prims: &mut [PrimInfo], bounds: &Aabb, rule: LeafRule) -> Option<usize> {
+    let group = rule.group;
     let blocks = |n: usize| n.div_ceil(group) as f32;
     let centroids = fold(prims, Aabb::EMPTY, |b, p| *b = b.grow(p.centroid), Aabb::union);
     let axis = centroids.max_axis();
@@ -612,13 +647,11 @@ fn choose_split(prims: &mut [PrimInfo], (group, max_leaf): (usize, usize)) -> Op
             best = (cost, i);
         }
     }
-    // Sets larger than a leaf are always split, even where the SAH's leaf cost is lower:
-    // the SAH weighs a box by the chance that a ray from outside meets it, but in a closed
-    // room every ray starts inside, and a leaf of big triangles from different walls spans
-    // the room and is entered by every ray. Splitting the Cornell box down to leaves of two
-    // triangles cut its triangle tests per camera ray from 11.4 to 2.0 and the path
-    // tracer's instructions per sample from 11,000 to 8,400 (docs/performance.md).
-    if !best.0.is_finite() || prims.len() <= max_leaf {
+    let area = bounds.surface_area();
+    let split_cost = TRAVERSAL_COST + INTERSECT_COST * best.0 / area.max(f32::MIN_POSITIVE);
+    let leaf_cost = INTERSECT_COST * blocks(prims.len());
+    let sah_leaf = rule.sah && split_cost >= leaf_cost && prims.len() <= 2 * rule.max;
+    if !best.0.is_finite() || prims.len() <= rule.max || sah_leaf {
         return None;
     }
     let mut mid = 0;
