@@ -57,6 +57,11 @@ impl Triangle4 {
         if hits.fallback != 0 {
             return self.closest_with_fallback(r, t_max, &hits);
         }
+        let lane_hit = |lane: usize| (lane, hits.t[lane], Vec2::new(hits.b1[lane], hits.b2[lane]));
+        if hits.mask & hits.mask.wrapping_sub(1) == 0 {
+            // No lane or one, the common case.
+            return (hits.mask != 0).then(|| lane_hit(hits.mask.trailing_zeros() as usize));
+        }
         // The smallest distance among the active hit lanes, the lowest lane of equal ones
         // (lanes outside `active`, another leaf's triangles, are skipped).
         let mut lanes = hits.mask;
@@ -65,7 +70,7 @@ impl Triangle4 {
             let lane = lanes.trailing_zeros() as usize;
             lanes &= lanes - 1;
             if best.is_none_or(|b| hits.t[lane] < b.1) {
-                best = Some((lane, hits.t[lane], Vec2::new(hits.b1[lane], hits.b2[lane])));
+                best = Some(lane_hit(lane));
             }
         }
         best
