@@ -4,7 +4,7 @@
 
 use super::Failure;
 use clap::Args;
-use penumbra::math::SamplerKind;
+use penumbra::math::{Rgb, SamplerKind};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
@@ -74,13 +74,10 @@ pub fn run(args: RenderBenchArgs) -> Result<(), Failure> {
     let mut image = Vec::new();
     let samples = desc.render.width as f64 * desc.render.height as f64 * args.spp as f64;
     for _ in 0..args.repeats {
-        let start = Instant::now();
-        let result = pool
-            .install(|| penumbra::render(&desc, penumbra::RenderControl::default()))
-            .map_err(|e| Failure::BadInput(e.into()))?;
-        times.push(start.elapsed().as_secs_f64());
-        rays_per_sample = result.stats.rays.total() as f64 / samples;
-        image = result.film.image();
+        let (seconds, film, rays) = render_once(&pool, &desc)?;
+        times.push(seconds);
+        rays_per_sample = rays / samples;
+        image = film;
     }
     times.sort_by(f64::total_cmp);
     let (best, median) = (times[0], times[times.len() / 2]);
@@ -118,8 +115,10 @@ pub fn run(args: RenderBenchArgs) -> Result<(), Failure> {
                 theirs.samples_per_s * 1e-6,
                 ours / theirs.samples_per_s
             );
-            if let (Some(e), Some(e_theirs)) = (our_error, theirs.rel_mse) {
-                // Error falls as 1/spp for both, so the time to a given error scales with it.
+            if let (Some(e), Some(e_theirs), Some(r)) = (our_error, theirs.rel_mse, &reference) {
+                // First guess: error falling as 1/spp, so the time to a given error scales
+                // with it; then the spp that reaches it, found by rendering (low-discrepancy
+                // samplers converge faster than 1/spp, so the guess is off for them).
                 let ours_to_theirs = best * e / e_theirs;
                 println!(
                     "  to mitsuba's relMSE {e_theirs:.4e} at {} spp ({:.3} s): penumbra needs about {ours_to_theirs:.3} s (our {e:.4e} x {best:.3} s, error taken as 1/spp) = {:.2}x its time",
@@ -127,10 +126,63 @@ pub fn run(args: RenderBenchArgs) -> Result<(), Failure> {
                     theirs.wall,
                     ours_to_theirs / theirs.wall
                 );
+                let guess = (args.spp as f64 * e / e_theirs).ceil().max(1.0) as u32;
+                let (n, e_n) = spp_for_error(&pool, &desc, &r.pixels, e_theirs, guess)?;
+                let t = n as f64 * desc.render.width as f64 * desc.render.height as f64 / ours;
+                println!(
+                    "  measured: our relMSE is {e_n:.4e} at {n} spp, {t:.3} s at our best speed = {:.2}x its time",
+                    t / theirs.wall
+                );
             }
         }
     }
     Ok(())
+}
+
+/// One render of `desc`: wall seconds, the image, rays traced.
+fn render_once(pool: &rayon::ThreadPool, desc: &penumbra::scene::SceneDesc) -> Result<(f64, Vec<Rgb>, f64), Failure> {
+    let start = Instant::now();
+    let result = pool
+        .install(|| penumbra::render(desc, penumbra::RenderControl::default()))
+        .map_err(|e| Failure::BadInput(e.into()))?;
+    Ok((
+        start.elapsed().as_secs_f64(),
+        result.film.image(),
+        result.stats.rays.total() as f64,
+    ))
+}
+
+/// The fewest samples per pixel, searched from `guess` in steps of about 3%, whose render
+/// has a relative MSE against `reference` of at most `target`; and that error. Renders are
+/// deterministic, so each error is exact for the seed.
+fn spp_for_error(
+    pool: &rayon::ThreadPool,
+    desc: &penumbra::scene::SceneDesc,
+    reference: &[Rgb],
+    target: f64,
+    guess: u32,
+) -> Result<(u32, f64), Failure> {
+    let error = |spp: u32| -> Result<f64, Failure> {
+        let mut d = desc.clone();
+        d.render.spp = spp;
+        let (_, image, _) = render_once(pool, &d)?;
+        Ok(penumbra::metrics::compare(&image, reference).rel_mse)
+    };
+    let step = (guess / 32).max(1);
+    let (mut n, mut e) = (guess, error(guess)?);
+    // Up until the target is reached (at most four times the guess), then down while it holds.
+    while e > target && n < 4 * guess {
+        n += step;
+        e = error(n)?;
+    }
+    while n > step {
+        let e_less = error(n - step)?;
+        if e_less > target {
+            break;
+        }
+        (n, e) = (n - step, e_less);
+    }
+    Ok((n, e))
 }
 
 /// Mitsuba's best samples per second, best wall time and relative MSE on its Cornell box in
