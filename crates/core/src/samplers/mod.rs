@@ -62,8 +62,10 @@ pub(crate) struct Key {
     pub pattern: u64,
     /// The sample's index within the pixel.
     pub index: u32,
-    /// `mix64(index)`, worked out once per sample rather than once per dimension.
+    /// `mix64(index)` and `index.reverse_bits()`, worked out once per sample rather than
+    /// once per dimension.
     pub index_hash: u64,
+    pub index_reversed: u32,
     /// Samples per pixel: the number of strata.
     pub count: u32,
     /// The 2D stratified pattern's columns and rows for `count` samples.
@@ -86,6 +88,7 @@ pub struct PixelSampler {
     grid: [u32; 2],
     index: u32,
     index_hash: u64,
+    index_reversed: u32,
     dimension: u32,
     /// Hash of the seed and pixel, the start of the pixel's sequence of dimension hashes.
     pixel_hash: u64,
@@ -100,6 +103,7 @@ impl PixelSampler {
             grid: stratified::grid(spp.max(1)),
             index: 0,
             index_hash: crate::hash::mix64(0),
+            index_reversed: 0,
             dimension: 0,
             pixel_hash: 0,
         }
@@ -109,10 +113,12 @@ impl PixelSampler {
     pub fn start(&mut self, pixel: UVec2, index: u32) {
         self.index = index;
         self.index_hash = crate::hash::mix64(index as u64);
+        self.index_reversed = index.reverse_bits();
         self.dimension = 0;
         self.pixel_hash = hash_words(&[self.seed, pixel.x as u64, pixel.y as u64]);
     }
 
+    #[inline]
     fn next_key(&mut self) -> Key {
         let d = self.dimension;
         self.dimension += 1;
@@ -126,11 +132,13 @@ impl PixelSampler {
             pattern,
             index: self.index,
             index_hash: self.index_hash,
+            index_reversed: self.index_reversed,
             count: self.spp,
             grid: self.grid,
         }
     }
 
+    #[inline]
     pub fn next_1d(&mut self) -> f32 {
         let key = self.next_key();
         match self.kind {
@@ -141,6 +149,7 @@ impl PixelSampler {
         }
     }
 
+    #[inline]
     pub fn next_2d(&mut self) -> Vec2 {
         let key = self.next_key();
         match self.kind {

@@ -93,7 +93,7 @@ fn seeds(key: &Key) -> [u32; 3] {
 /// The shuffled index in the reversed domain: reverse(nested_uniform_scramble(index)).
 #[inline]
 fn shuffled_reversed(key: &Key, seed: u32) -> u32 {
-    laine_karras(key.index.reverse_bits(), seed)
+    laine_karras(key.index_reversed, seed)
 }
 
 /// Coordinate `dim` of the point at reversed shuffled index `j`, Owen-scrambled.
@@ -102,11 +102,13 @@ fn coordinate(j: u32, dim: usize, seed: u32) -> f32 {
     to_unit(laine_karras(reversed_sobol(j, dim), seed).reverse_bits())
 }
 
+#[inline]
 pub(super) fn sample_1d(key: &Key) -> f32 {
     let s = seeds(key);
     coordinate(shuffled_reversed(key, s[0]), 0, s[1])
 }
 
+#[inline]
 pub(super) fn sample_2d(key: &Key) -> Vec2 {
     let s = seeds(key);
     let j = shuffled_reversed(key, s[0]);
@@ -148,6 +150,7 @@ mod tests {
                 pattern: crate::hash::mix64(step as u64),
                 index: i % 4096,
                 index_hash: crate::hash::mix64((i % 4096) as u64),
+                index_reversed: (i % 4096).reverse_bits(),
                 count: 4096,
                 grid: [64, 64],
             };
