@@ -10,6 +10,7 @@
 //! variant in [`AccelKind`] and one arm in [`build_accel`].
 
 mod bvh;
+mod bvh_build;
 mod grid;
 mod kdtree;
 mod list;
