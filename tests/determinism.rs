@@ -44,6 +44,16 @@ fn render_desc(desc: &SceneDesc, threads: usize, tile_size: u32, seed: u64) -> F
         .film
 }
 
+/// `scenes/NAME` at `width` x `height`.
+fn repository_scene(name: &str, width: u32, height: u32) -> SceneDesc {
+    let path = format!("{}/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+    let file = SourceFile::new(&path, std::fs::read_to_string(&path).unwrap());
+    let mut desc = penumbra::scene::formats::native::read(&file).unwrap();
+    desc.render.width = width;
+    desc.render.height = height;
+    desc
+}
+
 #[test]
 fn identical_for_any_thread_count_and_tiling() {
     let reference = render_with(1, 16, 3);
@@ -58,11 +68,7 @@ fn identical_for_any_thread_count_and_tiling() {
 
 #[test]
 fn direct_lighting_is_identical_for_any_thread_count() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/box-light.toml");
-    let file = SourceFile::new(path, std::fs::read_to_string(path).unwrap());
-    let mut desc = penumbra::scene::formats::native::read(&file).unwrap();
-    desc.render.width = 80;
-    desc.render.height = 60;
+    let mut desc = repository_scene("box-light.toml", 80, 60);
     for sampler in penumbra::math::SamplerKind::ALL {
         desc.render.sampler = sampler;
         let reference = render_desc(&desc, 1, 16, 5);
@@ -154,11 +160,7 @@ fn splatting_reproduces_a_constant_image_to_the_borders() {
 /// with every accelerator (they all report the same hits, so the paths cannot differ).
 #[test]
 fn path_tracing_is_identical_for_any_thread_count_and_accelerator() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/materials.toml");
-    let file = SourceFile::new(path, std::fs::read_to_string(path).unwrap());
-    let mut desc = penumbra::scene::formats::native::read(&file).unwrap();
-    desc.render.width = 96;
-    desc.render.height = 36;
+    let mut desc = repository_scene("materials.toml", 96, 36);
     let reference = render_desc(&desc, 1, 16, 9);
     assert_eq!(reference, render_desc(&desc, 2, 16, 9), "1 vs 2 threads");
     assert_ne!(
