@@ -127,12 +127,16 @@ pub fn run(args: RenderBenchArgs) -> Result<(), Failure> {
                     ours_to_theirs / theirs.wall
                 );
                 let guess = (args.spp as f64 * e / e_theirs).ceil().max(1.0) as u32;
-                let (n, e_n) = spp_for_error(&pool, &desc, &r.pixels, e_theirs, guess)?;
-                let t = n as f64 * desc.render.width as f64 * desc.render.height as f64 / ours;
-                println!(
-                    "  measured: our relMSE is {e_n:.4e} at {n} spp, {t:.3} s at our best speed = {:.2}x its time",
-                    t / theirs.wall
-                );
+                match spp_for_error(&pool, &desc, &r.pixels, e_theirs, guess)? {
+                    Some((n, e_n)) => {
+                        let t = n as f64 * desc.render.width as f64 * desc.render.height as f64 / ours;
+                        println!(
+                            "  measured: our relMSE is {e_n:.4e} at {n} spp, {t:.3} s at our best speed = {:.2}x its time",
+                            t / theirs.wall
+                        );
+                    }
+                    None => println!("  measured: not reached by {} spp", 4 * guess),
+                }
             }
         }
     }
@@ -153,15 +157,16 @@ fn render_once(pool: &rayon::ThreadPool, desc: &penumbra::scene::SceneDesc) -> R
 }
 
 /// The fewest samples per pixel, searched from `guess` in steps of about 3%, whose render
-/// has a relative MSE against `reference` of at most `target`; and that error. Renders are
-/// deterministic, so each error is exact for the seed.
+/// has a relative MSE against `reference` of at most `target`, and that error; `None` when
+/// four times the guess does not reach it. Renders are deterministic, so each error is
+/// exact for the seed.
 fn spp_for_error(
     pool: &rayon::ThreadPool,
     desc: &penumbra::scene::SceneDesc,
     reference: &[Rgb],
     target: f64,
     guess: u32,
-) -> Result<(u32, f64), Failure> {
+) -> Result<Option<(u32, f64)>, Failure> {
     let error = |spp: u32| -> Result<f64, Failure> {
         let mut d = desc.clone();
         d.render.spp = spp;
@@ -170,11 +175,18 @@ fn spp_for_error(
     };
     let step = (guess / 32).max(1);
     let (mut n, mut e) = (guess, error(guess)?);
-    // Up until the target is reached (at most four times the guess), then down while it holds.
-    while e > target && n < 4 * guess {
-        n += step;
-        e = error(n)?;
+    if e > target {
+        // Up until the target is reached: the spp before it missed, so that is the answer.
+        while e > target {
+            if n >= 4 * guess {
+                return Ok(None);
+            }
+            n += step;
+            e = error(n)?;
+        }
+        return Ok(Some((n, e)));
     }
+    // The guess reaches it: down while fewer samples still do.
     while n > step {
         let e_less = error(n - step)?;
         if e_less > target {
@@ -182,7 +194,7 @@ fn spp_for_error(
         }
         (n, e) = (n - step, e_less);
     }
-    Ok((n, e))
+    Ok(Some((n, e)))
 }
 
 /// Mitsuba's best samples per second, best wall time and relative MSE on its Cornell box in

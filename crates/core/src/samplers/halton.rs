@@ -1,8 +1,9 @@
 //! Owen-scrambled Halton points: each 2D request takes the radical inverses in bases 2 and
 //! 3 (Halton 1964) of the sample's index, with every digit permuted by a hash of the digits
 //! above it (Owen's nested scrambling, as pbrt-v4's `OwenScrambledRadicalInverse` does; in
-//! base 2 by one Laine-Karras hash, as the Sobol sampler scrambles), at an index permuted within the pixel's samples (Kensler's permutation) so that the
-//! pairs of different dimensions do not correlate.
+//! base 2 by one Laine-Karras hash, as the Sobol sampler scrambles), at an index permuted
+//! within the pixel's samples (Kensler's permutation) so that the pairs of different
+//! dimensions do not correlate.
 
 use super::sobol::laine_karras;
 use super::stratified::permute;

@@ -52,6 +52,7 @@ impl LeafRule {
         }
     }
 }
+
 /// Largest leaf of primitives whose centroids all coincide (they cannot be split by position).
 const MAX_COINCIDENT_LEAF: usize = 64;
 /// Subtrees with more primitives than this are built on another thread.
@@ -80,6 +81,7 @@ impl Node {
     };
 }
 
+/// A primitive as the build sees it: its bounds, their centre, its number in the set.
 #[derive(Clone, Copy)]
 pub(super) struct PrimInfo {
     pub(super) bounds: Aabb,
@@ -87,6 +89,7 @@ pub(super) struct PrimInfo {
     pub(super) index: u32,
 }
 
+/// Surface area of a binary node's box.
 pub(super) fn area(n: &Node) -> f32 {
     Aabb {
         min: n.min.into(),
