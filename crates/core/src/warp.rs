@@ -13,13 +13,13 @@ pub fn uniform_disk(u: Vec2) -> Vec2 {
         return Vec2::ZERO;
     }
     // The angle is φ or π/2 - φ with |φ| <= π/4, where short series are exact to a float.
-    if o.x.abs() > o.y.abs() {
-        let (sin, cos) = sin_cos_octant(FRAC_PI_4 * (o.y / o.x));
-        o.x * Vec2::new(cos, sin)
-    } else {
-        let (sin, cos) = sin_cos_octant(FRAC_PI_4 * (o.x / o.y));
-        o.y * Vec2::new(sin, cos)
-    }
+    // Written with selects, not branches: which octant a random point lands in is a coin
+    // toss that a branch predictor loses half the time.
+    let swap = o.x.abs() <= o.y.abs();
+    let (a, b) = if swap { (o.y, o.x) } else { (o.x, o.y) };
+    let (sin, cos) = sin_cos_octant(FRAC_PI_4 * (b / a));
+    let (x, y) = if swap { (sin, cos) } else { (cos, sin) };
+    a * Vec2::new(x, y)
 }
 
 /// `(sin x, cos x)` for |x| <= π/4 by their Taylor series to degrees 9 and 10, whose
