@@ -1,5 +1,6 @@
 //! Orthonormal frames: the local shading coordinate system (z = normal).
 
+use crate::lanes::{Real, V3};
 use glam::Vec3;
 
 /// An orthonormal basis `(s, t, n)`.
@@ -14,12 +15,12 @@ impl Frame {
     /// A frame around the unit vector `n`, after Duff et al., "Building an Orthonormal
     /// Basis, Revisited" (JCGT 2017): branchless and continuous except at one sign flip.
     pub fn from_normal(n: Vec3) -> Self {
-        let sign = 1.0f32.copysign(n.z);
-        let a = -1.0 / (sign + n.z);
-        let b = n.x * n.y * a;
-        let s = Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-        let t = Vec3::new(b, sign + n.y * n.y * a, -n.y);
-        Frame { s, t, n }
+        let b = Basis::from_normal(V3::from(n));
+        Frame {
+            s: b.s.into(),
+            t: b.t.into(),
+            n,
+        }
     }
 
     /// A frame around the unit vector `n` whose first axis is the tangent `t` made
@@ -37,6 +38,34 @@ impl Frame {
 
     pub fn to_world(&self, v: Vec3) -> Vec3 {
         self.s * v.x + self.t * v.y + self.n * v.z
+    }
+}
+
+/// [`Frame::from_normal`]'s basis for lanes of any [`Real`] type.
+#[derive(Clone, Copy, Debug)]
+pub struct Basis<R> {
+    pub s: V3<R>,
+    pub t: V3<R>,
+    pub n: V3<R>,
+}
+
+impl<R: Real> Basis<R> {
+    /// Duff et al.'s basis around the unit vector `n` (see [`Frame::from_normal`]).
+    #[inline(always)]
+    pub fn from_normal(n: V3<R>) -> Self {
+        let one = R::splat(1.0);
+        let sign = one.copysign(n.z);
+        let a = -one / (sign + n.z);
+        let b = n.x * n.y * a;
+        let s = V3::new(one + sign * n.x * n.x * a, sign * b, -sign * n.x);
+        let t = V3::new(b, sign + n.y * n.y * a, -n.y);
+        Basis { s, t, n }
+    }
+
+    /// `v` given in this basis, in world coordinates (as [`Frame::to_world`] sums it).
+    #[inline(always)]
+    pub fn to_world(&self, v: V3<R>) -> V3<R> {
+        self.s.scale(v.x) + self.t.scale(v.y) + self.n.scale(v.z)
     }
 }
 

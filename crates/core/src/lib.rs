@@ -9,6 +9,7 @@ pub mod color;
 pub mod distribution;
 pub mod frame;
 pub mod hash;
+pub mod lanes;
 pub mod ray;
 pub mod rng;
 pub mod samplers;

@@ -2,35 +2,46 @@
 //! section A.5; Shirley and Chiu 1997 for the concentric disk; Malley's method for the
 //! cosine-weighted hemisphere). Directions are in a local frame with z up.
 
+use crate::lanes::{Real, V3};
 use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_1_PI, FRAC_PI_4, PI};
 
 /// A point on the unit disk, uniform by area, by Shirley and Chiu's concentric map (which
 /// keeps strata compact). Density 1/π.
 pub fn uniform_disk(u: Vec2) -> Vec2 {
-    let o = 2.0 * u - Vec2::ONE;
-    if o == Vec2::ZERO {
-        return Vec2::ZERO;
-    }
+    let (x, y) = uniform_disk_lanes(u.x, u.y);
+    Vec2::new(x, y)
+}
+
+/// [`uniform_disk`] for lanes of any [`Real`] type.
+#[inline(always)]
+pub fn uniform_disk_lanes<R: Real>(ux: R, uy: R) -> (R, R) {
+    let (two, one, zero) = (R::splat(2.0), R::splat(1.0), R::splat(0.0));
+    let (ox, oy) = (two * ux - one, two * uy - one);
     // The angle is φ or π/2 - φ with |φ| <= π/4, where short series are exact to a float.
     // Written with selects, not branches: which octant a random point lands in is a coin
     // toss that a branch predictor loses half the time.
-    let swap = o.x.abs() <= o.y.abs();
-    let (a, b) = if swap { (o.y, o.x) } else { (o.x, o.y) };
-    let (sin, cos) = sin_cos_octant(FRAC_PI_4 * (b / a));
-    let (x, y) = if swap { (sin, cos) } else { (cos, sin) };
-    a * Vec2::new(x, y)
+    let swap = ox.abs().le(oy.abs());
+    let (a, b) = (R::select(swap, oy, ox), R::select(swap, ox, oy));
+    let (sin, cos) = sin_cos_octant(R::splat(FRAC_PI_4) * (b / a));
+    let (x, y) = (R::select(swap, sin, cos), R::select(swap, cos, sin));
+    // The centre maps to itself (its angle, 0/0, is not needed).
+    let centre = R::and(ox.eq(zero), oy.eq(zero));
+    (R::select(centre, zero, a * x), R::select(centre, zero, a * y))
 }
 
 /// `(sin x, cos x)` for |x| <= π/4 by their Taylor series to degrees 9 and 10, whose
 /// truncation errors there (below 2e-9 and 1e-10) vanish under float rounding: a few
 /// multiply-adds instead of a library call with its range reduction.
-#[inline]
-pub fn sin_cos_octant(x: f32) -> (f32, f32) {
+#[inline(always)]
+pub fn sin_cos_octant<R: Real>(x: R) -> (R, R) {
+    let c = R::splat;
     let x2 = x * x;
-    let sin = x * (1.0 + x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0 + x2 * (1.0 / 362_880.0)))));
-    let cos =
-        1.0 + x2 * (-0.5 + x2 * (1.0 / 24.0 + x2 * (-1.0 / 720.0 + x2 * (1.0 / 40_320.0 + x2 * (-1.0 / 3_628_800.0)))));
+    let sin =
+        x * (c(1.0) + x2 * (c(-1.0 / 6.0) + x2 * (c(1.0 / 120.0) + x2 * (c(-1.0 / 5040.0) + x2 * c(1.0 / 362_880.0)))));
+    let cos = c(1.0)
+        + x2 * (c(-0.5)
+            + x2 * (c(1.0 / 24.0) + x2 * (c(-1.0 / 720.0) + x2 * (c(1.0 / 40_320.0) + x2 * c(-1.0 / 3_628_800.0)))));
     (sin, cos)
 }
 
@@ -53,8 +64,14 @@ pub const UNIFORM_HEMISPHERE_PDF: f32 = 1.0 / (2.0 * PI);
 /// A direction over the upper hemisphere with density cos θ / π (Malley's method: a uniform
 /// disk point lifted onto the hemisphere).
 pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
-    let d = uniform_disk(u);
-    Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt())
+    cosine_hemisphere_lanes(u.x, u.y).into()
+}
+
+/// [`cosine_hemisphere`] for lanes of any [`Real`] type.
+#[inline(always)]
+pub fn cosine_hemisphere_lanes<R: Real>(ux: R, uy: R) -> V3<R> {
+    let (x, y) = uniform_disk_lanes(ux, uy);
+    V3::new(x, y, (R::splat(1.0) - (x * x + y * y)).max(R::splat(0.0)).sqrt())
 }
 
 /// Density of [`cosine_hemisphere`] at `w` (zero below the horizon).

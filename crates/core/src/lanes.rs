@@ -1,0 +1,274 @@
+//! Lane types: numeric code written once for one value (`f32`) or for eight at a time
+//! ([`F8`], a `wide::f32x8`: one AVX register), the way Enoki and Dr.Jit let Mitsuba 3 run
+//! the same renderer scalar or vectorised. A routine generic over [`Real`] performs the
+//! same IEEE operations in the same order for either type, so lane `k` of its eight-wide
+//! result is bit for bit the scalar result for input `k` (branches become [`Real::select`]).
+//!
+//! This is the first layer of a path tracer that shades eight paths per instruction
+//! (docs/performance.md); the warps and frames built on it are in [`crate::warp`] and
+//! [`crate::frame`].
+
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// Eight `f32` lanes: a `wide::f32x8` whose negation flips the sign bit as `f32`'s does
+/// (`wide` computes 0 - x, which turns -0 into +0 and so breaks lane-for-lane equality).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct F8(pub wide::f32x8);
+
+impl F8 {
+    pub const ZERO: F8 = F8(wide::f32x8::ZERO);
+
+    #[inline(always)]
+    pub fn to_array(self) -> [f32; 8] {
+        self.0.to_array()
+    }
+}
+
+impl From<[f32; 8]> for F8 {
+    #[inline(always)]
+    fn from(a: [f32; 8]) -> Self {
+        F8(wide::f32x8::from(a))
+    }
+}
+
+macro_rules! lanewise {
+    ($($op:ident $f:ident),*) => {$(
+        impl $op for F8 {
+            type Output = F8;
+            #[inline(always)]
+            fn $f(self, o: F8) -> F8 {
+                F8(self.0.$f(o.0))
+            }
+        }
+    )*};
+}
+lanewise!(Add add, Sub sub, Mul mul, Div div);
+
+impl Neg for F8 {
+    type Output = F8;
+    #[inline(always)]
+    fn neg(self) -> F8 {
+        F8(self.0 ^ wide::f32x8::splat(-0.0))
+    }
+}
+
+/// What lane-generic numeric code needs of its number type.
+pub trait Real:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
+{
+    /// One truth value per lane.
+    type Mask: Copy;
+    fn splat(v: f32) -> Self;
+    fn sqrt(self) -> Self;
+    fn abs(self) -> Self;
+    /// The larger of the two (for `f32`, `f32::max`; lanes holding NaN may differ).
+    fn max(self, other: Self) -> Self;
+    /// `self`'s magnitude with `sign`'s sign.
+    fn copysign(self, sign: Self) -> Self;
+    fn le(self, other: Self) -> Self::Mask;
+    fn eq(self, other: Self) -> Self::Mask;
+    fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
+    /// Per lane: `t` where `mask` holds, else `f`.
+    fn select(mask: Self::Mask, t: Self, f: Self) -> Self;
+}
+
+impl Real for f32 {
+    type Mask = bool;
+    #[inline(always)]
+    fn splat(v: f32) -> Self {
+        v
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f32::sqrt(self)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f32::abs(self)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        f32::max(self, other)
+    }
+    #[inline(always)]
+    fn copysign(self, sign: Self) -> Self {
+        f32::copysign(self, sign)
+    }
+    #[inline(always)]
+    fn le(self, other: Self) -> bool {
+        self <= other
+    }
+    #[inline(always)]
+    fn eq(self, other: Self) -> bool {
+        self == other
+    }
+    #[inline(always)]
+    fn and(a: bool, b: bool) -> bool {
+        a && b
+    }
+    #[inline(always)]
+    fn select(mask: bool, t: Self, f: Self) -> Self {
+        if mask {
+            t
+        } else {
+            f
+        }
+    }
+}
+
+impl Real for F8 {
+    /// All ones or all zeros per lane.
+    type Mask = wide::f32x8;
+    #[inline(always)]
+    fn splat(v: f32) -> Self {
+        F8(wide::f32x8::splat(v))
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        F8(self.0.sqrt())
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        F8(self.0.abs())
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        F8(self.0.max(other.0))
+    }
+    #[inline(always)]
+    fn copysign(self, sign: Self) -> Self {
+        F8(self.0.copysign(sign.0))
+    }
+    #[inline(always)]
+    fn le(self, other: Self) -> wide::f32x8 {
+        wide::CmpLe::cmp_le(self.0, other.0)
+    }
+    #[inline(always)]
+    fn eq(self, other: Self) -> wide::f32x8 {
+        wide::CmpEq::cmp_eq(self.0, other.0)
+    }
+    #[inline(always)]
+    fn and(a: wide::f32x8, b: wide::f32x8) -> wide::f32x8 {
+        a & b
+    }
+    #[inline(always)]
+    fn select(mask: wide::f32x8, t: Self, f: Self) -> Self {
+        F8(mask.blend(t.0, f.0))
+    }
+}
+
+/// A 3-vector of lanes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct V3<R> {
+    pub x: R,
+    pub y: R,
+    pub z: R,
+}
+
+impl<R: Real> V3<R> {
+    #[inline(always)]
+    pub fn new(x: R, y: R, z: R) -> Self {
+        V3 { x, y, z }
+    }
+
+    /// The dot product, summed as glam sums it: (x x' + y y') + z z'.
+    #[inline(always)]
+    pub fn dot(self, o: Self) -> R {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+
+    #[inline(always)]
+    pub fn scale(self, s: R) -> Self {
+        V3::new(self.x * s, self.y * s, self.z * s)
+    }
+}
+
+impl<R: Real> Add for V3<R> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        V3::new(self.x + o.x, self.y + o.y, self.z + o.z)
+    }
+}
+
+impl From<glam::Vec3> for V3<f32> {
+    #[inline(always)]
+    fn from(v: glam::Vec3) -> Self {
+        V3::new(v.x, v.y, v.z)
+    }
+}
+
+impl From<V3<f32>> for glam::Vec3 {
+    #[inline(always)]
+    fn from(v: V3<f32>) -> Self {
+        glam::Vec3::new(v.x, v.y, v.z)
+    }
+}
+
+impl V3<F8> {
+    /// Eight vectors, one per lane.
+    pub fn from_lanes(v: &[glam::Vec3; 8]) -> Self {
+        V3::new(
+            F8::from(v.map(|v| v.x)),
+            F8::from(v.map(|v| v.y)),
+            F8::from(v.map(|v| v.z)),
+        )
+    }
+
+    /// The vector of each lane.
+    pub fn to_lanes(self) -> [glam::Vec3; 8] {
+        let (x, y, z) = (self.x.to_array(), self.y.to_array(), self.z.to_array());
+        std::array::from_fn(|k| glam::Vec3::new(x[k], y[k], z[k]))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frame::{Basis, Frame};
+    use crate::{warp, Pcg32};
+    use glam::{Vec2, Vec3};
+
+    fn bits(v: Vec3) -> [u32; 3] {
+        v.to_array().map(f32::to_bits)
+    }
+
+    /// Inputs that reach every select: both octant halves, the disk centre, the edges of the
+    /// square, normals on both sides of z = 0 (and on it), along the axes.
+    fn inputs(rng: &mut Pcg32, k: usize) -> (Vec2, Vec3) {
+        let u = match k % 7 {
+            0 => Vec2::splat(0.5),
+            1 => Vec2::new(0.0, rng.next_f32()),
+            2 => Vec2::new(rng.next_f32(), 1.0 - f32::EPSILON / 2.0),
+            _ => Vec2::new(rng.next_f32(), rng.next_f32()),
+        };
+        let n = match k % 5 {
+            0 => Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, 0.0),
+            1 => [Vec3::Z, Vec3::NEG_Z, Vec3::X, Vec3::NEG_Y][k / 5 % 4],
+            _ => Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, rng.next_f32() - 0.5),
+        };
+        (u, n.try_normalize().unwrap_or(Vec3::Z))
+    }
+
+    /// Eight lanes give, lane by lane, exactly the scalar routines' floats.
+    #[test]
+    fn eight_lanes_equal_the_scalar_routines_bit_for_bit() {
+        let mut rng = Pcg32::new(5, 9);
+        for round in 0..20_000 {
+            let cases: [(Vec2, Vec3); 8] = std::array::from_fn(|k| inputs(&mut rng, 8 * round + k));
+            let (ux, uy) = (F8::from(cases.map(|c| c.0.x)), F8::from(cases.map(|c| c.0.y)));
+            let normals = V3::from_lanes(&cases.map(|c| c.1));
+            let local = warp::cosine_hemisphere_lanes(ux, uy);
+            let basis = Basis::from_normal(normals);
+            let world = basis.to_world(local).to_lanes();
+            let (local, s, t) = (local.to_lanes(), basis.s.to_lanes(), basis.t.to_lanes());
+            for (k, &(u, n)) in cases.iter().enumerate() {
+                let frame = Frame::from_normal(n);
+                let w = warp::cosine_hemisphere(u);
+                assert_eq!(bits(local[k]), bits(w), "cosine_hemisphere({u})");
+                assert_eq!((bits(s[k]), bits(t[k])), (bits(frame.s), bits(frame.t)), "frame of {n}");
+                assert_eq!(bits(world[k]), bits(frame.to_world(w)), "to_world, {u} {n}");
+            }
+        }
+    }
+}
