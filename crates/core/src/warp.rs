@@ -119,14 +119,19 @@ pub fn uniform_cone_pdf(w: Vec3, cos_max: f32) -> f32 {
 /// Barycentric coordinates (b1, b2) of a point uniform over a triangle by area
 /// (Heitz 2019's low-distortion map); the point is `(1 - b1 - b2) p0 + b1 p1 + b2 p2`.
 pub fn uniform_triangle(u: Vec2) -> Vec2 {
-    let (b0, b1) = if u.x < u.y {
-        let b0 = u.x / 2.0;
-        (b0, u.y - b0)
-    } else {
-        let b1 = u.y / 2.0;
-        (u.x - b1, b1)
-    };
-    Vec2::new(b1, 1.0 - b0 - b1)
+    let (b1, b2) = uniform_triangle_lanes(u.x, u.y);
+    Vec2::new(b1, b2)
+}
+
+/// [`uniform_triangle`] for lanes of any [`Real`] type.
+#[inline(always)]
+pub fn uniform_triangle_lanes<R: Real>(ux: R, uy: R) -> (R, R) {
+    let two = R::splat(2.0);
+    let (hx, hy) = (ux / two, uy / two);
+    let below = ux.lt(uy);
+    let b0 = R::select(below, hx, ux - hy);
+    let b1 = R::select(below, uy - hx, hy);
+    (b1, R::splat(1.0) - b0 - b1)
 }
 
 #[cfg(test)]

@@ -24,6 +24,7 @@ use crate::bsdfs::TransportMode;
 use crate::lights::{AreaSampling, LightSelection};
 use crate::Scene;
 use glam::Vec2;
+use penumbra_core::lanes::Real;
 use penumbra_core::{PixelSampler, Ray, Rgb};
 
 /// How the direct-lighting integral over each light is estimated.
@@ -85,17 +86,20 @@ impl MisHeuristic {
     /// Weight of a sample of strategy f, given `f` = n_f p_f and `g` = n_g p_g for the
     /// other strategy (Veach and Guibas 1995: balance f/(f+g), power f²/(f²+g²)).
     pub fn weight(self, f: f32, g: f32) -> f32 {
+        self.weight_lanes(f, g)
+    }
+
+    /// [`MisHeuristic::weight`] for lanes of any [`Real`] type.
+    #[inline(always)]
+    pub fn weight_lanes<R: Real>(self, f: R, g: R) -> R {
         let (f, g) = match self {
             MisHeuristic::Balance => (f, g),
             MisHeuristic::Power => (f * f, g * g),
         };
-        if f.is_infinite() {
-            1.0
-        } else if f + g > 0.0 {
-            f / (f + g)
-        } else {
-            0.0
-        }
+        let (zero, one) = (R::splat(0.0), R::splat(1.0));
+        let sum = f + g;
+        let finite = R::select(sum.gt(zero), f / sum, zero);
+        R::select(f.abs().eq(R::splat(f32::INFINITY)), one, finite)
     }
 }
 
@@ -329,5 +333,43 @@ impl Direct {
             1.0
         };
         bs.weight * le * (weight / n)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::MisHeuristic;
+    use penumbra_core::lanes::F8;
+
+    /// Veach and Guibas's weights as first written: infinite densities win, a zero pair
+    /// weighs nothing.
+    fn by_definition(h: MisHeuristic, f: f32, g: f32) -> f32 {
+        let (f, g) = match h {
+            MisHeuristic::Balance => (f, g),
+            MisHeuristic::Power => (f * f, g * g),
+        };
+        if f.is_infinite() {
+            1.0
+        } else if f + g > 0.0 {
+            f / (f + g)
+        } else {
+            0.0
+        }
+    }
+
+    #[test]
+    fn weights_equal_the_definition_in_one_lane_and_in_eight() {
+        let values = [0.0, 1e-30, 0.3, 1.0, 7.5, 1e30, f32::MAX, f32::INFINITY, f32::NAN];
+        for h in [MisHeuristic::Balance, MisHeuristic::Power] {
+            for (i, &f) in values.iter().enumerate() {
+                let g: [f32; 8] = std::array::from_fn(|k| values[(i + k) % values.len()]);
+                let lanes = h.weight_lanes(F8::from([f; 8]), F8::from(g)).to_array();
+                for k in 0..8 {
+                    let expected = by_definition(h, f, g[k]);
+                    assert_eq!(h.weight(f, g[k]).to_bits(), expected.to_bits(), "{h:?} {f} {}", g[k]);
+                    assert_eq!(lanes[k].to_bits(), expected.to_bits(), "{h:?} lanes {f} {}", g[k]);
+                }
+            }
+        }
     }
 }
