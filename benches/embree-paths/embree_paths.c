@@ -68,7 +68,7 @@ int main(int argc, char **argv) {
           rh.ray.tnear = 0; rh.ray.tfar = INFINITY; rh.ray.mask = -1; rh.ray.flags = 0; rh.ray.time = 0; rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
           rtcIntersect1(scene, &ctx, &rh); hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID; }
       } else {
-        for (size_t i = 0; i < nc; i += 16) { struct RTCRayHit16 rh; int valid[16];
+        for (size_t i = 0; i < nc; i += 16) { struct RTCRayHit16 rh __attribute__((aligned(64))); int valid[16] __attribute__((aligned(64)));
           for (int k = 0; k < 16; k++) { size_t q = i + k < nc ? i + k : nc - 1; float *r = c[q].r; valid[k] = i + k < nc ? -1 : 0;
             rh.ray.org_x[k] = r[0]; rh.ray.org_y[k] = r[1]; rh.ray.org_z[k] = r[2]; rh.ray.dir_x[k] = r[3]; rh.ray.dir_y[k] = r[4]; rh.ray.dir_z[k] = r[5];
             rh.ray.tnear[k] = 0; rh.ray.tfar[k] = INFINITY; rh.ray.mask[k] = -1; rh.ray.flags[k] = 0; rh.ray.time[k] = 0; rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID; }
@@ -82,7 +82,7 @@ int main(int argc, char **argv) {
           ry.tnear = 0; ry.tfar = r[6]; ry.mask = -1; ry.flags = 0; ry.time = 0;
           rtcOccluded1(scene, &ctx, &ry); blocked += ry.tfar < 0; }
       } else {
-        for (size_t i = 0; i < ns; i += 16) { struct RTCRay16 ry; int valid[16];
+        for (size_t i = 0; i < ns; i += 16) { struct RTCRay16 ry __attribute__((aligned(64))); int valid[16] __attribute__((aligned(64)));
           for (int k = 0; k < 16; k++) { size_t q = i + k < ns ? i + k : ns - 1; float *r = s[q].r; valid[k] = i + k < ns ? -1 : 0;
             ry.org_x[k] = r[0]; ry.org_y[k] = r[1]; ry.org_z[k] = r[2]; ry.dir_x[k] = r[3]; ry.dir_y[k] = r[4]; ry.dir_z[k] = r[5];
             ry.tnear[k] = 0; ry.tfar[k] = r[6]; ry.mask[k] = -1; ry.flags[k] = 0; ry.time[k] = 0; }

@@ -1,20 +1,23 @@
 #!/bin/bash
 # Embree 3 on the rays of Penumbra's path tracer, one by one and in 16-wide packets in
 # wavefront order (docs/performance.md, "Where Mitsuba's time goes"). Needs
-# `../shared/anchors/run.sh setup` (Embree headers, the Python venv). From the repository:
+# `../shared/anchors/run.sh setup` (Embree headers, the Python venv; ANCHORS_VENV as there).
+# Measures the committed HEAD (built in a scratch worktree with raydump.patch applied).
+# From the repository:
 #   bash benches/embree-paths/run.sh [SPP]
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 SPP=${1:-4}
 WORK=${TMPDIR:-/tmp}/penumbra-embree-paths
-PY=${PENUMBRA_ANCHORS_PY:-$HOME/.cache/penumbra-anchors/venv/bin/python}
+PY=${ANCHORS_VENV:-$HOME/.cache/penumbra-anchors/venv}/bin/python
 rm -rf "$WORK" && mkdir -p "$WORK"
+git -C "$ROOT" worktree prune
 git -C "$ROOT" worktree add -q --detach "$WORK/src" HEAD
 trap 'git -C "$ROOT" worktree remove --force "$WORK/src"' EXIT
 git -C "$WORK/src" apply "$ROOT/benches/embree-paths/raydump.patch"
 (cd "$WORK/src" && cargo build --release -q)
-"$WORK/src/target/release/penumbra" render "$ROOT/scenes/cbox-mitsuba.toml" --spp "$SPP" --threads 1 -o "$WORK/cbox.exr" --quiet
-mv /tmp/raydump.bin "$WORK/raydump.bin"
+PENUMBRA_RAYDUMP="$WORK/raydump.bin" "$WORK/src/target/release/penumbra" render "$ROOT/scenes/cbox-mitsuba.toml" \
+    --spp "$SPP" --threads 1 -o "$WORK/cbox.exr" --quiet
 "$PY" "$ROOT/benches/embree-paths/scene_ply.py" "$ROOT/scenes/cbox-mitsuba.toml" "$WORK/cbox.ply"
 cc -O2 -o "$WORK/embree_paths" "$ROOT/benches/embree-paths/embree_paths.c" -lembree3 -lm
 "$WORK/embree_paths" "$WORK/cbox.ply" "$WORK/raydump.bin"

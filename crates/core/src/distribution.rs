@@ -3,19 +3,6 @@
 //! restricted to the discrete case). Used to pick a light by power or a triangle by area;
 //! [`Distribution2D`] builds on it for environment maps.
 
-/// The number of items of the non-decreasing `sorted` that are at most `x` (its
-/// `partition_point(|&v| v <= x)`). Short slices are counted without branches: a binary
-/// search over a few random values mispredicts about every other step, which costs more
-/// than comparing them all.
-#[inline]
-pub fn count_at_most<T: PartialOrd + Copy>(sorted: &[T], x: T) -> usize {
-    if sorted.len() <= 16 {
-        sorted.iter().map(|&v| (v <= x) as usize).sum()
-    } else {
-        sorted.partition_point(|&v| v <= x)
-    }
-}
-
 /// Items `0..n` with probability proportional to their weights.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Distribution1D {
@@ -66,7 +53,7 @@ impl Distribution1D {
     /// weight are never chosen.
     pub fn sample(&self, u: f32) -> (usize, f32, f32) {
         // The last i with cdf[i] <= u, skipping empty intervals.
-        let i = count_at_most(&self.cdf, u).clamp(1, self.len()) - 1;
+        let i = self.cdf.partition_point(|&c| c <= u).clamp(1, self.len()) - 1;
         let pmf = self.pmf(i);
         let rest = ((u - self.cdf[i]) / pmf).clamp(0.0, crate::samplers::ONE_MINUS_EPSILON);
         (i, pmf, rest)
@@ -132,19 +119,6 @@ impl Distribution2D {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn count_at_most_is_the_partition_point() {
-        let mut rng = crate::Pcg32::new(3, 5);
-        for len in 0..40 {
-            let mut v: Vec<f32> = (0..len).map(|_| (rng.next_f32() * 8.0).floor() / 8.0).collect();
-            v.sort_by(f32::total_cmp);
-            for k in 0..=80 {
-                let x = k as f32 / 64.0;
-                assert_eq!(count_at_most(&v, x), v.partition_point(|&c| c <= x), "{v:?} {x}");
-            }
-        }
-    }
 
     #[test]
     fn two_dimensional_density_matches_its_weights() {

@@ -37,7 +37,12 @@ impl Frame {
     }
 
     pub fn to_world(&self, v: Vec3) -> Vec3 {
-        self.s * v.x + self.t * v.y + self.n * v.z
+        let basis = Basis {
+            s: self.s.into(),
+            t: self.t.into(),
+            n: self.n.into(),
+        };
+        basis.to_world(v.into()).into()
     }
 }
 
@@ -62,7 +67,7 @@ impl<R: Real> Basis<R> {
         Basis { s, t, n }
     }
 
-    /// `v` given in this basis, in world coordinates (as [`Frame::to_world`] sums it).
+    /// `v` given in this basis, in world coordinates: s v.x + t v.y + n v.z.
     #[inline(always)]
     pub fn to_world(&self, v: V3<R>) -> V3<R> {
         self.s.scale(v.x) + self.t.scale(v.y) + self.n.scale(v.z)

@@ -61,14 +61,15 @@ pub trait Real:
     fn splat(v: f32) -> Self;
     fn sqrt(self) -> Self;
     fn abs(self) -> Self;
-    /// The larger of the two (for `f32`, `f32::max`; lanes holding NaN may differ).
+    /// The larger of the two. (`f32::max` and `wide`'s may differ at `max(+0, -0)`; no
+    /// lane-generic routine here takes the maximum of two zeros.)
     fn max(self, other: Self) -> Self;
     /// `self`'s magnitude with `sign`'s sign.
     fn copysign(self, sign: Self) -> Self;
-    fn lt(self, other: Self) -> Self::Mask;
-    fn le(self, other: Self) -> Self::Mask;
-    fn gt(self, other: Self) -> Self::Mask;
-    fn eq(self, other: Self) -> Self::Mask;
+    fn cmp_lt(self, other: Self) -> Self::Mask;
+    fn cmp_le(self, other: Self) -> Self::Mask;
+    fn cmp_gt(self, other: Self) -> Self::Mask;
+    fn cmp_eq(self, other: Self) -> Self::Mask;
     fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     /// Per lane: `t` where `mask` holds, else `f`.
     fn select(mask: Self::Mask, t: Self, f: Self) -> Self;
@@ -97,19 +98,19 @@ impl Real for f32 {
         f32::copysign(self, sign)
     }
     #[inline(always)]
-    fn lt(self, other: Self) -> bool {
+    fn cmp_lt(self, other: Self) -> bool {
         self < other
     }
     #[inline(always)]
-    fn le(self, other: Self) -> bool {
+    fn cmp_le(self, other: Self) -> bool {
         self <= other
     }
     #[inline(always)]
-    fn gt(self, other: Self) -> bool {
+    fn cmp_gt(self, other: Self) -> bool {
         self > other
     }
     #[inline(always)]
-    fn eq(self, other: Self) -> bool {
+    fn cmp_eq(self, other: Self) -> bool {
         self == other
     }
     #[inline(always)]
@@ -150,19 +151,19 @@ impl Real for F8 {
         F8(self.0.copysign(sign.0))
     }
     #[inline(always)]
-    fn lt(self, other: Self) -> wide::f32x8 {
+    fn cmp_lt(self, other: Self) -> wide::f32x8 {
         wide::CmpLt::cmp_lt(self.0, other.0)
     }
     #[inline(always)]
-    fn le(self, other: Self) -> wide::f32x8 {
+    fn cmp_le(self, other: Self) -> wide::f32x8 {
         wide::CmpLe::cmp_le(self.0, other.0)
     }
     #[inline(always)]
-    fn gt(self, other: Self) -> wide::f32x8 {
+    fn cmp_gt(self, other: Self) -> wide::f32x8 {
         wide::CmpGt::cmp_gt(self.0, other.0)
     }
     #[inline(always)]
-    fn eq(self, other: Self) -> wide::f32x8 {
+    fn cmp_eq(self, other: Self) -> wide::f32x8 {
         wide::CmpEq::cmp_eq(self.0, other.0)
     }
     #[inline(always)]
@@ -254,18 +255,33 @@ mod tests {
     /// Inputs that reach every select: both octant halves, the disk centre, the edges of the
     /// square, normals on both sides of z = 0 (and on it), along the axes.
     fn inputs(rng: &mut Pcg32, k: usize) -> (Vec2, Vec3) {
-        let u = match k % 7 {
+        let t = rng.next_f32();
+        let u = match k % 9 {
             0 => Vec2::splat(0.5),
-            1 => Vec2::new(0.0, rng.next_f32()),
-            2 => Vec2::new(rng.next_f32(), 1.0 - f32::EPSILON / 2.0),
-            _ => Vec2::new(rng.next_f32(), rng.next_f32()),
+            1 => Vec2::new(0.0, t),
+            2 => Vec2::new(t, 1.0 - f32::EPSILON / 2.0),
+            // |2u - 1| equal in x and y: the octant boundary, where the disk map's
+            // comparison decides which of sin and cos (an ulp apart at π/4) goes where.
+            3 => [Vec2::ZERO, Vec2::splat(t), Vec2::new(t, 1.0 - t), Vec2::new(0.25, 0.75)][k / 9 % 4],
+            _ => Vec2::new(t, rng.next_f32()),
         };
         let n = match k % 5 {
             0 => Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, 0.0),
-            1 => [Vec3::Z, Vec3::NEG_Z, Vec3::X, Vec3::NEG_Y][k / 5 % 4],
+            1 => [Vec3::Z, Vec3::NEG_Z, Vec3::X, Vec3::NEG_Y, Vec3::new(0.6, 0.8, -0.0)][k / 5 % 5],
             _ => Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, rng.next_f32() - 0.5),
         };
         (u, n.try_normalize().unwrap_or(Vec3::Z))
+    }
+
+    /// The disk map at the octant boundary |x| = |y| as the scalar code had it before it was
+    /// written over lanes (the x > y branch for |x| > |y| only): sin and cos of π/4 differ
+    /// by an ulp, so a `<` for the `<=` would swap them and change images.
+    #[test]
+    fn disk_map_keeps_its_octant_convention() {
+        let d = warp::uniform_disk(Vec2::ZERO);
+        let (sin, cos) = warp::sin_cos_octant(std::f32::consts::FRAC_PI_4);
+        assert_ne!(sin, cos);
+        assert_eq!([d.x, d.y].map(f32::to_bits), [-sin, -cos].map(f32::to_bits));
     }
 
     /// Eight lanes give, lane by lane, exactly the scalar routines' floats: the lane type

@@ -21,12 +21,12 @@ pub fn uniform_disk_lanes<R: Real>(ux: R, uy: R) -> (R, R) {
     // The angle is φ or π/2 - φ with |φ| <= π/4, where short series are exact to a float.
     // Written with selects, not branches: which octant a random point lands in is a coin
     // toss that a branch predictor loses half the time.
-    let swap = ox.abs().le(oy.abs());
+    let swap = ox.abs().cmp_le(oy.abs());
     let (a, b) = (R::select(swap, oy, ox), R::select(swap, ox, oy));
     let (sin, cos) = sin_cos_octant(R::splat(FRAC_PI_4) * (b / a));
     let (x, y) = (R::select(swap, sin, cos), R::select(swap, cos, sin));
     // The centre maps to itself (its angle, 0/0, is not needed).
-    let centre = R::and(ox.eq(zero), oy.eq(zero));
+    let centre = R::and(ox.cmp_eq(zero), oy.cmp_eq(zero));
     (R::select(centre, zero, a * x), R::select(centre, zero, a * y))
 }
 
@@ -128,7 +128,7 @@ pub fn uniform_triangle(u: Vec2) -> Vec2 {
 pub fn uniform_triangle_lanes<R: Real>(ux: R, uy: R) -> (R, R) {
     let two = R::splat(2.0);
     let (hx, hy) = (ux / two, uy / two);
-    let below = ux.lt(uy);
+    let below = ux.cmp_lt(uy);
     let b0 = R::select(below, hx, ux - hy);
     let b1 = R::select(below, uy - hx, hy);
     (b1, R::splat(1.0) - b0 - b1)

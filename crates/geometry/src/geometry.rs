@@ -134,7 +134,7 @@ impl Geometry {
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfaceHit {
         let Some(&prim) = self.prims.get(hit.prim as usize) else {
             let pooled = hit.prim - self.prims.len() as u32;
-            let mesh = penumbra_core::distribution::count_at_most(&self.pooled_starts, pooled) - 1;
+            let mesh = self.pooled_starts.partition_point(|&start| start <= pooled) - 1;
             let tri = pooled - self.pooled_starts[mesh];
             let (mesh, object) = &self.meshes[mesh];
             let (p, ng, ns, uv, dpdu) = triangle_surface(mesh, tri, hit.uv);

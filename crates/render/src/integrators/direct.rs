@@ -98,8 +98,8 @@ impl MisHeuristic {
         };
         let (zero, one) = (R::splat(0.0), R::splat(1.0));
         let sum = f + g;
-        let finite = R::select(sum.gt(zero), f / sum, zero);
-        R::select(f.abs().eq(R::splat(f32::INFINITY)), one, finite)
+        let finite = R::select(sum.cmp_gt(zero), f / sum, zero);
+        R::select(f.abs().cmp_eq(R::splat(f32::INFINITY)), one, finite)
     }
 }
 
@@ -360,14 +360,27 @@ mod tests {
     #[test]
     fn weights_equal_the_definition_in_one_lane_and_in_eight() {
         let values = [0.0, 1e-30, 0.3, 1.0, 7.5, 1e30, f32::MAX, f32::INFINITY, f32::NAN];
+        // Every pair of values, eight pairs to a lane group.
+        let pairs: Vec<(f32, f32)> = values
+            .iter()
+            .flat_map(|&f| values.iter().map(move |&g| (f, g)))
+            .collect();
         for h in [MisHeuristic::Balance, MisHeuristic::Power] {
-            for (i, &f) in values.iter().enumerate() {
-                let g: [f32; 8] = std::array::from_fn(|k| values[(i + k) % values.len()]);
-                let lanes = h.weight_lanes(F8::from([f; 8]), F8::from(g)).to_array();
+            for group in pairs.chunks(8) {
+                let lane = |k: usize| group[k.min(group.len() - 1)];
+                let (f, g): ([f32; 8], [f32; 8]) =
+                    (std::array::from_fn(|k| lane(k).0), std::array::from_fn(|k| lane(k).1));
+                let lanes = h.weight_lanes(F8::from(f), F8::from(g)).to_array();
                 for k in 0..8 {
-                    let expected = by_definition(h, f, g[k]);
-                    assert_eq!(h.weight(f, g[k]).to_bits(), expected.to_bits(), "{h:?} {f} {}", g[k]);
-                    assert_eq!(lanes[k].to_bits(), expected.to_bits(), "{h:?} lanes {f} {}", g[k]);
+                    let expected = by_definition(h, f[k], g[k]);
+                    assert_eq!(
+                        h.weight(f[k], g[k]).to_bits(),
+                        expected.to_bits(),
+                        "{h:?} {} {}",
+                        f[k],
+                        g[k]
+                    );
+                    assert_eq!(lanes[k].to_bits(), expected.to_bits(), "{h:?} lanes {} {}", f[k], g[k]);
                 }
             }
         }
