@@ -23,8 +23,9 @@ pub struct RenderBenchArgs {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
     /// Also run Mitsuba 3 on its Cornell box with the same spp, repeats and threads, through
-    /// ../shared/anchors, in its vectorised (llvm_ad_rgb) and its scalar (scalar_rgb)
-    /// variant, and print our speed relative to each.
+    /// ../shared/anchors, in its vectorised (llvm_ad_rgb; one render after each of ours,
+    /// for paired ratios) and its scalar (scalar_rgb) variant, and print our speed
+    /// relative to each.
     #[arg(long)]
     pub mitsuba: bool,
     /// Sampler for our renders (overrides the scene's): sobol, stratified, halton, independent.
@@ -73,12 +74,25 @@ pub fn run(args: RenderBenchArgs) -> Result<(), Failure> {
     let mut rays_per_sample = 0.0;
     let mut image = Vec::new();
     let samples = desc.render.width as f64 * desc.render.height as f64 * args.spp as f64;
+    // With --mitsuba, each of our renders is followed by one of Mitsuba's vectorised
+    // variant, so that the two are timed in the same stretch of a shared machine's load and
+    // each pair gives a ratio of its own.
+    let mut llvm_rounds = Vec::new();
     for _ in 0..args.repeats {
         let (seconds, film, rays) = render_once(&pool, &desc)?;
         times.push(seconds);
         rays_per_sample = rays / samples;
         image = film;
+        if args.mitsuba {
+            llvm_rounds.push(mitsuba("llvm_ad_rgb", args.spp, 1, pool.current_num_threads()).map_err(bad)?);
+        }
     }
+    let mut paired: Vec<f64> = times
+        .iter()
+        .zip(&llvm_rounds)
+        .map(|(t, m)| samples / t / m.samples_per_s)
+        .collect();
+    paired.sort_by(f64::total_cmp);
     times.sort_by(f64::total_cmp);
     let (best, median) = (times[0], times[times.len() / 2]);
     let ours = samples / best;
@@ -109,12 +123,23 @@ pub fn run(args: RenderBenchArgs) -> Result<(), Failure> {
     };
     if args.mitsuba {
         for variant in ["llvm_ad_rgb", "scalar_rgb"] {
-            let theirs = mitsuba(variant, args.spp, args.repeats, pool.current_num_threads()).map_err(bad)?;
+            let theirs = match variant {
+                "llvm_ad_rgb" => best_of(&llvm_rounds),
+                _ => mitsuba(variant, args.spp, args.repeats, pool.current_num_threads()).map_err(bad)?,
+            };
             println!(
                 "mitsuba {variant} (Cornell box, 256x256, max depth 8): {:.3} Msamples/s best; penumbra / mitsuba = {:.2}",
                 theirs.samples_per_s * 1e-6,
                 ours / theirs.samples_per_s
             );
+            if variant == "llvm_ad_rgb" {
+                println!(
+                    "  {} rounds of one render each, ours then Mitsuba's: ratios min/median {:.2}/{:.2}",
+                    paired.len(),
+                    paired[0],
+                    paired[paired.len() / 2]
+                );
+            }
             if let (Some(e), Some(e_theirs), Some(r)) = (our_error, theirs.rel_mse, &reference) {
                 // First guess: error falling as 1/spp, so the time to a given error scales
                 // with it; then the spp that reaches it, found by rendering (low-discrepancy
@@ -197,12 +222,24 @@ fn spp_for_error(
     Ok(Some((n, e)))
 }
 
+/// The best speed and wall time of several single-render runs (`runs` is not empty).
+fn best_of(runs: &[MitsubaRun]) -> MitsubaRun {
+    MitsubaRun {
+        samples_per_s: runs.iter().map(|r| r.samples_per_s).fold(0.0, f64::max),
+        wall: runs.iter().map(|r| r.wall).fold(f64::INFINITY, f64::min),
+        rel_mse: runs[0].rel_mse,
+    }
+}
+
 /// Mitsuba's best samples per second, best wall time and relative MSE on its Cornell box in
 /// `variant`, from the anchors' script.
 fn mitsuba(variant: &str, spp: u32, repeats: u32, threads: usize) -> Result<MitsubaRun, String> {
     let anchors = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/anchors");
-    let home = std::env::var("HOME").unwrap_or_default();
-    let python = PathBuf::from(home).join(".cache/penumbra-anchors/venv/bin/python");
+    // Where ../shared/anchors/run.sh puts its virtual environment.
+    let venv = std::env::var_os("ANCHORS_VENV").map(PathBuf::from).unwrap_or_else(|| {
+        PathBuf::from(std::env::var("HOME").unwrap_or_default()).join(".cache/penumbra-anchors/venv")
+    });
+    let python = venv.join("bin/python");
     if !python.exists() {
         return Err(format!(
             "--mitsuba needs the anchors: run {}/run.sh setup once",
