@@ -26,23 +26,28 @@ impl Frame {
     /// A frame around the unit vector `n` whose first axis is the tangent `t` made
     /// orthogonal to `n` (Gram-Schmidt); [`Frame::from_normal`] when `t` is zero or along `n`.
     pub fn from_normal_tangent(n: Vec3, t: Vec3) -> Self {
-        match (t - n * n.dot(t)).try_normalize() {
-            Some(s) => Frame { s, t: n.cross(s), n },
-            None => Frame::from_normal(n),
+        let b = Basis::from_normal_tangent(V3::from(n), V3::from(t));
+        Frame {
+            s: b.s.into(),
+            t: b.t.into(),
+            n,
         }
     }
 
     pub fn to_local(&self, v: Vec3) -> Vec3 {
-        Vec3::new(v.dot(self.s), v.dot(self.t), v.dot(self.n))
+        self.basis().to_local(v.into()).into()
     }
 
     pub fn to_world(&self, v: Vec3) -> Vec3 {
-        let basis = Basis {
+        self.basis().to_world(v.into()).into()
+    }
+
+    fn basis(&self) -> Basis<f32> {
+        Basis {
             s: self.s.into(),
             t: self.t.into(),
             n: self.n.into(),
-        };
-        basis.to_world(v.into()).into()
+        }
     }
 }
 
@@ -65,6 +70,25 @@ impl<R: Real> Basis<R> {
         let s = V3::new(one + sign * n.x * n.x * a, sign * b, -sign * n.x);
         let t = V3::new(b, sign + n.y * n.y * a, -n.y);
         Basis { s, t, n }
+    }
+
+    /// [`Frame::from_normal_tangent`]'s basis: `t` made orthogonal to `n` (Gram-Schmidt),
+    /// or Duff et al.'s basis where that leaves no direction.
+    #[inline(always)]
+    pub fn from_normal_tangent(n: V3<R>, t: V3<R>) -> Self {
+        let (s, ok) = (t - n.scale(n.dot(t))).try_normalize();
+        let fallback = Basis::from_normal(n);
+        Basis {
+            s: V3::select(ok, s, fallback.s),
+            t: V3::select(ok, n.cross(s), fallback.t),
+            n,
+        }
+    }
+
+    /// World vector `v` in this basis: (v·s, v·t, v·n).
+    #[inline(always)]
+    pub fn to_local(&self, v: V3<R>) -> V3<R> {
+        V3::new(v.dot(self.s), v.dot(self.t), v.dot(self.n))
     }
 
     /// `v` given in this basis, in world coordinates: s v.x + t v.y + n v.z.

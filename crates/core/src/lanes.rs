@@ -200,6 +200,43 @@ impl<R: Real> V3<R> {
     pub fn scale(self, s: R) -> Self {
         V3::new(self.x * s, self.y * s, self.z * s)
     }
+
+    /// The cross product, each component as glam computes it.
+    #[inline(always)]
+    pub fn cross(self, o: Self) -> Self {
+        V3::new(
+            self.y * o.z - o.y * self.z,
+            self.z * o.x - o.z * self.x,
+            self.x * o.y - o.x * self.y,
+        )
+    }
+
+    /// `self` over its length, and where that is a unit vector: where 1/length is finite
+    /// and positive, as glam's `try_normalize` decides.
+    #[inline(always)]
+    pub fn try_normalize(self) -> (Self, R::Mask) {
+        let rcp = R::splat(1.0) / self.dot(self).sqrt();
+        let ok = R::and(rcp.cmp_lt(R::splat(f32::INFINITY)), rcp.cmp_gt(R::splat(0.0)));
+        (self.scale(rcp), ok)
+    }
+
+    /// Per lane: `t` where `mask` holds, else `f`.
+    #[inline(always)]
+    pub fn select(mask: R::Mask, t: Self, f: Self) -> Self {
+        V3::new(
+            R::select(mask, t.x, f.x),
+            R::select(mask, t.y, f.y),
+            R::select(mask, t.z, f.z),
+        )
+    }
+}
+
+impl<R: Real> std::ops::Sub for V3<R> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        V3::new(self.x - o.x, self.y - o.y, self.z - o.z)
+    }
 }
 
 impl<R: Real> Add for V3<R> {
@@ -298,6 +335,14 @@ mod tests {
             let basis = Basis::from_normal(normals);
             let world = basis.to_world(local).to_lanes();
             let (local, s, t) = (local.to_lanes(), basis.s.to_lanes(), basis.t.to_lanes());
+            let tangents: [Vec3; 8] = std::array::from_fn(|k| match (8 * round + k) % 6 {
+                0 => Vec3::ZERO,
+                1 => cases[k].1 * 3.0,
+                _ => Vec3::new(rng.next_f32() - 0.5, rng.next_f32(), rng.next_f32() * 2.0 - 1.0),
+            });
+            let tangent_basis = Basis::from_normal_tangent(normals, V3::from_lanes(&tangents));
+            let (ts, tt) = (tangent_basis.s.to_lanes(), tangent_basis.t.to_lanes());
+            let back = tangent_basis.to_local(V3::from_lanes(&world)).to_lanes();
             let (b1, b2) = warp::uniform_triangle_lanes(ux, uy);
             let (b1, b2) = (b1.to_array(), b2.to_array());
             for (k, &(u, n)) in cases.iter().enumerate() {
@@ -306,6 +351,14 @@ mod tests {
                 assert_eq!(bits(local[k]), bits(w), "cosine_hemisphere({u})");
                 assert_eq!((bits(s[k]), bits(t[k])), (bits(frame.s), bits(frame.t)), "frame of {n}");
                 assert_eq!(bits(world[k]), bits(frame.to_world(w)), "to_world, {u} {n}");
+                let f = Frame::from_normal_tangent(n, tangents[k]);
+                assert_eq!(
+                    (bits(ts[k]), bits(tt[k])),
+                    (bits(f.s), bits(f.t)),
+                    "frame of {n}, {}",
+                    tangents[k]
+                );
+                assert_eq!(bits(back[k]), bits(f.to_local(world[k])), "to_local {n}");
                 let b = warp::uniform_triangle(u);
                 assert_eq!(
                     [b1[k], b2[k]].map(f32::to_bits),
