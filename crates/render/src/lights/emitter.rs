@@ -7,6 +7,7 @@
 //! L cos θ / pdf(ω).
 
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Real, V3};
 use penumbra_core::{spherical, warp, Frame};
 use std::f32::consts::PI;
 
@@ -106,8 +107,8 @@ impl Emitter {
                 (*center + d.x * *a1 + d.y * *a2, self.normal)
             }
             EmitterShape::Triangle { v } => {
-                let b = warp::uniform_triangle(u);
-                ((1.0 - b.x - b.y) * v[0] + b.x * v[1] + b.y * v[2], self.normal)
+                let (b1, b2) = warp::uniform_triangle_lanes(u.x, u.y);
+                (triangle_point(v.map(V3::from), b1, b2).into(), self.normal)
             }
             EmitterShape::Sphere { center, radius } => {
                 let n = warp::uniform_sphere(u);
@@ -119,10 +120,8 @@ impl Emitter {
     /// The solid-angle density at `p` of reaching `point` (normal `normal`) by area sampling:
     /// dist² / (|cos θ_light| area). Infinite (returned as `None`) for a grazing point.
     pub fn area_pdf_to_solid_angle(&self, p: Vec3, point: Vec3, normal: Vec3) -> Option<f32> {
-        let d = point - p;
-        let dist2 = d.length_squared();
-        let cos = (normal.dot(d) / dist2.sqrt()).abs();
-        (cos > 0.0 && dist2 > 0.0).then(|| dist2 / (cos * self.area))
+        let (pdf, ok) = area_to_solid_angle(p.into(), point.into(), normal.into(), self.area);
+        ok.then_some(pdf)
     }
 
     /// A point uniform by area, with the solid-angle density of its direction from `p`.
@@ -225,4 +224,23 @@ impl Emitter {
             .or_else(|| self.area_pdf_to_solid_angle(p, point, normal))
             .unwrap_or(0.0)
     }
+}
+
+/// The point of barycentric coordinates `(b1, b2)` on triangle `v`:
+/// (1 - b1 - b2) v0 + b1 v1 + b2 v2, for lanes of any [`Real`] type.
+#[inline(always)]
+pub fn triangle_point<R: Real>(v: [V3<R>; 3], b1: R, b2: R) -> V3<R> {
+    v[0].scale(R::splat(1.0) - b1 - b2) + v[1].scale(b1) + v[2].scale(b2)
+}
+
+/// The solid-angle density at `p` of reaching `point` (normal `normal`) on an emitter of
+/// area `area` sampled uniformly by area: dist² / (|cos θ_light| area), and where it is
+/// defined (not at grazing angles or at `p` itself), for lanes of any [`Real`] type.
+#[inline(always)]
+pub fn area_to_solid_angle<R: Real>(p: V3<R>, point: V3<R>, normal: V3<R>, area: R) -> (R, R::Mask) {
+    let d = point - p;
+    let dist2 = d.dot(d);
+    let cos = (normal.dot(d) / dist2.sqrt()).abs();
+    let zero = R::splat(0.0);
+    (dist2 / (cos * area), R::and(cos.cmp_gt(zero), dist2.cmp_gt(zero)))
 }

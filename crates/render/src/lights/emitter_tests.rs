@@ -233,3 +233,68 @@ fn shapes_without_area_are_refused() {
     };
     assert!(Emitter::new(collinear).is_none());
 }
+
+/// The triangle point and the area-to-solid-angle density in eight lanes equal the scalar
+/// floats (and validity) lane by lane, including grazing points and the shading point on
+/// the emitter itself.
+#[test]
+fn triangle_sampling_in_eight_lanes_equals_the_scalar_floats() {
+    use super::emitter::{area_to_solid_angle, triangle_point};
+    use penumbra_core::lanes::{Real, F8, V3};
+    let mut rng = penumbra_core::Pcg32::new(17, 3);
+    let mut random =
+        |scale: f32| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * scale - Vec3::splat(scale / 2.0);
+    let tri = [random(2.0), random(2.0), random(2.0)];
+    let e = Emitter::new(EmitterShape::Triangle { v: tri }).expect("a triangle with area");
+    let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize();
+    let (mut invalid, mut valid) = (0, 0);
+    for round in 0..4000 {
+        let u: [Vec2; 8] = std::array::from_fn(|k| {
+            Vec2::new(
+                ((round * 8 + k) as f32 * 0.618_034).fract(),
+                ((round * 8 + k) as f32 * 0.754_878).fract(),
+            )
+        });
+        let points: [Vec3; 8] = std::array::from_fn(|k| e.sample_area(u[k]).0);
+        // Shading points in general position, in the triangle's plane, and on the point itself.
+        let shading: [Vec3; 8] = std::array::from_fn(|k| match k {
+            0 => points[0],
+            1 => tri[0] + (tri[1] - tri[0]) * 2.0,
+            _ => random(4.0),
+        });
+        let (b1, b2) = penumbra_core::warp::uniform_triangle_lanes(F8::from(u.map(|u| u.x)), F8::from(u.map(|u| u.y)));
+        let lanes = triangle_point([tri[0], tri[1], tri[2]].map(|v| V3::from_lanes(&[v; 8])), b1, b2).to_lanes();
+        let area = F8::splat(e.area());
+        let (pdf, ok) = area_to_solid_angle(
+            V3::from_lanes(&shading),
+            V3::from_lanes(&lanes),
+            V3::from_lanes(&[normal; 8]),
+            area,
+        );
+        let (pdf, ok) = (pdf.to_array(), ok.to_array());
+        for k in 0..8 {
+            assert_eq!(
+                lanes[k].to_array().map(f32::to_bits),
+                points[k].to_array().map(f32::to_bits),
+                "point {k}"
+            );
+            let scalar = e.area_pdf_to_solid_angle(shading[k], points[k], normal);
+            let lane = (ok[k].to_bits() != 0).then_some(pdf[k]);
+            assert_eq!(
+                lane.map(f32::to_bits),
+                scalar.map(f32::to_bits),
+                "pdf {k}: {:?}",
+                shading[k]
+            );
+            if scalar.is_some() {
+                valid += 1
+            } else {
+                invalid += 1
+            }
+        }
+    }
+    assert!(
+        invalid >= 4000 && valid > 20_000,
+        "cases {invalid} invalid, {valid} valid"
+    );
+}
