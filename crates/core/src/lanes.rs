@@ -73,7 +73,16 @@ pub trait Real:
     fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     /// Per lane: `t` where `mask` holds, else `f`.
     fn select(mask: Self::Mask, t: Self, f: Self) -> Self;
+    /// The coordinate `self` of a surface point moved along the normal component `n` by a
+    /// few units in the last place ([`crate::ray::offset_origin`], one coordinate).
+    fn offset_along(self, n: Self) -> Self;
 }
+
+/// [`Real::offset_along`]'s constants (Wächter and Binder 2019): below `ORIGIN` a fixed
+/// step `FLOAT_SCALE` n, else `INT_SCALE` n units in the last place.
+const ORIGIN: f32 = 1.0 / 32.0;
+const FLOAT_SCALE: f32 = 1.0 / 65536.0;
+const INT_SCALE: f32 = 256.0;
 
 impl Real for f32 {
     type Mask = bool;
@@ -125,6 +134,17 @@ impl Real for f32 {
             f
         }
     }
+    #[inline(always)]
+    fn offset_along(self, n: Self) -> Self {
+        if self.abs() < ORIGIN {
+            self + FLOAT_SCALE * n
+        } else {
+            let of_i = (INT_SCALE * n) as i32;
+            let bits = self.to_bits() as i32;
+            let moved = if self < 0.0 { bits - of_i } else { bits + of_i };
+            f32::from_bits(moved as u32)
+        }
+    }
 }
 
 impl Real for F8 {
@@ -173,6 +193,18 @@ impl Real for F8 {
     #[inline(always)]
     fn select(mask: wide::f32x8, t: Self, f: Self) -> Self {
         F8(mask.blend(t.0, f.0))
+    }
+    #[inline(always)]
+    fn offset_along(self, n: Self) -> Self {
+        use wide::{i32x8, CmpLt};
+        let near_origin = self.0.abs().cmp_lt(wide::f32x8::splat(ORIGIN));
+        let fixed = self.0 + wide::f32x8::splat(FLOAT_SCALE) * n.0;
+        // `trunc_int` saturates and maps NaN to 0, as `as i32` does.
+        let of_i = (wide::f32x8::splat(INT_SCALE) * n.0).trunc_int();
+        let bits: i32x8 = bytemuck::cast(self.0);
+        let negative: i32x8 = bytemuck::cast(self.0.cmp_lt(wide::f32x8::ZERO));
+        let moved: wide::f32x8 = bytemuck::cast(negative.blend(bits - of_i, bits + of_i));
+        F8(near_origin.blend(fixed, moved))
     }
 }
 
@@ -319,6 +351,43 @@ mod tests {
         let (sin, cos) = warp::sin_cos_octant(std::f32::consts::FRAC_PI_4);
         assert_ne!(sin, cos);
         assert_eq!([d.x, d.y].map(f32::to_bits), [-sin, -cos].map(f32::to_bits));
+    }
+
+    /// The offset ray origin in eight lanes equals the scalar one: points near the origin
+    /// (the fixed step), on either side of it, large ones, zero and negative-zero
+    /// coordinates, normals of every sign.
+    #[test]
+    fn offset_origin_in_eight_lanes_equals_the_scalar_floats() {
+        let mut rng = Pcg32::new(2, 8);
+        let coordinate = |rng: &mut Pcg32, k: usize| {
+            let r = rng.next_f32() * 2.0 - 1.0;
+            match k % 6 {
+                0 => r / 64.0,
+                1 => 0.0,
+                2 => -0.0,
+                3 => r * 1e5,
+                4 => (1.0 / 32.0) * r.signum(),
+                _ => r * 4.0,
+            }
+        };
+        for round in 0..10_000 {
+            let p: [Vec3; 8] = std::array::from_fn(|k| {
+                let i = 8 * round + k;
+                Vec3::new(
+                    coordinate(&mut rng, i),
+                    coordinate(&mut rng, i / 6),
+                    coordinate(&mut rng, i / 36),
+                )
+            });
+            let n: [Vec3; 8] = std::array::from_fn(|_| {
+                Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, rng.next_f32() - 0.5).normalize()
+            });
+            let lanes = crate::ray::offset_origin_lanes(V3::from_lanes(&p), V3::from_lanes(&n)).to_lanes();
+            for k in 0..8 {
+                let scalar = crate::ray::offset_origin(p[k], n[k]);
+                assert_eq!(bits(lanes[k]), bits(scalar), "{} along {}", p[k], n[k]);
+            }
+        }
     }
 
     /// Eight lanes give, lane by lane, exactly the scalar routines' floats: the lane type

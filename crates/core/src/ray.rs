@@ -1,5 +1,6 @@
 //! Rays, and the robust origin offset that keeps secondary rays off the surface they leave.
 
+use crate::lanes::{Real, V3};
 use glam::Vec3;
 
 /// A ray `origin + t * dir`. Directions need not be normalised; the interval of valid `t`
@@ -35,20 +36,13 @@ pub const SHADOW_EPSILON: f32 = 1e-4;
 /// (Ray Tracing Gems, chapter 6, 2019). Near the origin, where ULPs are tiny, a fixed
 /// offset is used instead.
 pub fn offset_origin(p: Vec3, n: Vec3) -> Vec3 {
-    const ORIGIN: f32 = 1.0 / 32.0;
-    const FLOAT_SCALE: f32 = 1.0 / 65536.0;
-    const INT_SCALE: f32 = 256.0;
-    let offset = |p: f32, n: f32| -> f32 {
-        if p.abs() < ORIGIN {
-            p + FLOAT_SCALE * n
-        } else {
-            let of_i = (INT_SCALE * n) as i32;
-            let bits = p.to_bits() as i32;
-            let moved = if p < 0.0 { bits - of_i } else { bits + of_i };
-            f32::from_bits(moved as u32)
-        }
-    };
-    Vec3::new(offset(p.x, n.x), offset(p.y, n.y), offset(p.z, n.z))
+    offset_origin_lanes(p.into(), n.into()).into()
+}
+
+/// [`offset_origin`] for lanes of any [`Real`] type.
+#[inline(always)]
+pub fn offset_origin_lanes<R: Real>(p: V3<R>, n: V3<R>) -> V3<R> {
+    V3::new(p.x.offset_along(n.x), p.y.offset_along(n.y), p.z.offset_along(n.z))
 }
 
 #[cfg(test)]
