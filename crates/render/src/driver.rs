@@ -20,9 +20,10 @@
 
 use crate::film::{Pixel, AOV_CHANNELS};
 use crate::filter::{FilterSampler, FilterTable};
+use crate::integrators::BATCH;
 use crate::{Film, Integrator, RayCounts, Scene};
 use glam::{UVec2, Vec2};
-use penumbra_core::{PixelSampler, Ray, SamplerKind};
+use penumbra_core::{PixelSampler, Ray, Rgb, SamplerKind};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -241,7 +242,7 @@ fn render_tile(
     tile: &Tile,
     index: u32,
 ) -> TileResult {
-    let mut sampler = PixelSampler::new(options.sampler, options.seed, options.spp);
+    let sampler = PixelSampler::new(options.sampler, options.seed, options.spp);
     let radius = scene.filter.radius();
     let table = filter.splat.as_ref();
     let splat = table.is_some();
@@ -259,9 +260,19 @@ fn render_tile(
     };
     let mut rays = RayCounts::default();
     let mut rejected = 0;
-    for y in 0..tile.size.y {
-        for x in 0..tile.size.x {
-            let pixel = tile.origin + UVec2::new(x, y);
+    // The tile's pixels in row order, in batches handed to the integrator together.
+    let pixel_count = (tile.size.x * tile.size.y) as usize;
+    let mut samplers = vec![sampler; BATCH.min(pixel_count)];
+    let mut rays_in = Vec::with_capacity(BATCH);
+    let mut film_positions = Vec::with_capacity(BATCH);
+    let mut radiance = vec![Rgb::BLACK; BATCH];
+    for batch in (0..pixel_count).step_by(BATCH) {
+        let lanes = BATCH.min(pixel_count - batch);
+        rays_in.clear();
+        film_positions.clear();
+        for (lane, sampler) in samplers[..lanes].iter_mut().enumerate() {
+            let i = (batch + lane) as u32;
+            let pixel = tile.origin + UVec2::new(i % tile.size.x, i / tile.size.x);
             sampler.start(pixel, index);
             let u = sampler.next_2d();
             let (film_pos, weight) = if splat {
@@ -271,14 +282,23 @@ fn render_tile(
                 (pixel.as_vec2() + Vec2::splat(0.5) + offset, weight)
             };
             let u_lens = if lens { sampler.next_2d() } else { Vec2::ZERO };
-            let ray = scene.camera.generate_ray(film_pos, u_lens);
-            rays.camera += 1;
-            let l = integrator.li(scene, &ray, &mut sampler, &mut rays);
+            rays_in.push(scene.camera.generate_ray(film_pos, u_lens));
+            film_positions.push((pixel - tile.origin, film_pos, weight));
+        }
+        rays.camera += lanes as u64;
+        integrator.li_batch(
+            scene,
+            &rays_in,
+            &mut samplers[..lanes],
+            &mut radiance[..lanes],
+            &mut rays,
+        );
+        for ((&(UVec2 { x, y }, film_pos, weight), &l), ray) in film_positions.iter().zip(&radiance).zip(&rays_in) {
             if !l.is_finite() {
                 rejected += 1;
                 continue;
             }
-            let aov = options.aovs.then(|| first_hit_aovs(scene, &ray));
+            let aov = options.aovs.then(|| first_hit_aovs(scene, ray));
             let mut add = |i: usize, w: f32| {
                 pixels[i].add(l, w);
                 if let Some(a) = &aov {

@@ -49,6 +49,20 @@ impl Scene {
         })
     }
 
+    /// [`Scene::intersect`] for each of `rays` (without a distance limit), into `hits`.
+    pub fn intersect_batch<'s>(&'s self, rays: &[Ray], hits: &mut [Option<Interaction<'s>>]) {
+        for (ray, hit) in rays.iter().zip(hits) {
+            *hit = self.intersect(ray, f32::INFINITY);
+        }
+    }
+
+    /// [`Scene::occluded`] for each `(ray, t_max)` of `rays`, into `blocked`.
+    pub fn occluded_batch(&self, rays: &[(Ray, f32)], blocked: &mut [bool]) {
+        for ((ray, t_max), b) in rays.iter().zip(blocked) {
+            *b = self.occluded(ray, *t_max);
+        }
+    }
+
     /// The area light at the surface `it` hit, with its index in [`Scene::lights`].
     pub fn emitter_at(&self, it: &Interaction) -> Option<(u32, &AreaLight)> {
         self.lights.emitter_of(it.surface.object, it.surface.triangle)

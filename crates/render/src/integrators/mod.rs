@@ -9,7 +9,7 @@ mod path;
 mod whitted;
 
 pub use direct::{Direct, DirectOptions, LightSampling, MisHeuristic};
-pub use path::{PathTracer, RR_DEPTH};
+pub use path::{PathTracer, BATCH, RR_DEPTH};
 pub use whitted::Whitted;
 
 use crate::bsdfs::TransportMode;
@@ -43,6 +43,21 @@ impl RayCounts {
 pub trait Integrator: Send + Sync {
     /// Radiance arriving at the camera along `ray`, counting the rays traced in `counts`.
     fn li(&self, scene: &Scene, ray: &Ray, sampler: &mut PixelSampler, counts: &mut RayCounts) -> Rgb;
+
+    /// [`Integrator::li`] for each of `rays` with its sampler, into `out`: the same values,
+    /// computed together where the integrator gains by it.
+    fn li_batch(
+        &self,
+        scene: &Scene,
+        rays: &[Ray],
+        samplers: &mut [PixelSampler],
+        out: &mut [Rgb],
+        counts: &mut RayCounts,
+    ) {
+        for ((ray, sampler), out) in rays.iter().zip(samplers).zip(out) {
+            *out = self.li(scene, ray, sampler, counts);
+        }
+    }
 }
 
 /// The largest `max_depth` a scene may ask for: recursion deeper than this could exhaust a

@@ -8,7 +8,7 @@ use crate::lights::{AreaLight, AreaSampling, Environment, LightSelection};
 use crate::{Interaction, Scene};
 use glam::{Vec2, Vec3};
 use penumbra_core::ray::offset_origin;
-use penumbra_core::{Frame, Rgb};
+use penumbra_core::{Frame, Ray, Rgb};
 
 /// A shading point: the surface, its BSDF in the shading frame, and where rays leave from.
 pub(super) struct Shading<'a> {
@@ -88,25 +88,46 @@ pub(super) fn light_sample(
     strategy: &LightStrategy,
     counts: &mut RayCounts,
 ) -> Rgb {
-    let light = &scene.lights.lights()[index as usize];
-    let Some(ls) = light.sample_li(sh.origin, u, strategy.sampling) else {
+    let Some(test) = light_sample_unshadowed(scene, sh, index, p_pick, u, strategy) else {
         return Rgb::BLACK;
     };
-    if ls.li.is_black() || !ls.wi.is_finite() {
+    counts.shadow += 1;
+    if scene.occluded(&test.ray, test.t_max) {
         return Rgb::BLACK;
     }
-    let Some(l) = sh.local(ls.wi) else {
-        return Rgb::BLACK;
-    };
+    test.value
+}
+
+/// A light sample whose visibility is still to be tested: the shadow ray, and what the
+/// sample brings if nothing blocks it.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ShadowTest {
+    pub ray: Ray,
+    pub t_max: f32,
+    pub value: Rgb,
+}
+
+/// [`light_sample`] without the shadow ray: `None` when the sample brings nothing whatever
+/// the visibility.
+pub(super) fn light_sample_unshadowed(
+    scene: &Scene,
+    sh: &Shading,
+    index: u32,
+    p_pick: f32,
+    u: Vec2,
+    strategy: &LightStrategy,
+) -> Option<ShadowTest> {
+    let light = &scene.lights.lights()[index as usize];
+    let ls = light.sample_li(sh.origin, u, strategy.sampling)?;
+    if ls.li.is_black() || !ls.wi.is_finite() {
+        return None;
+    }
+    let l = sh.local(ls.wi)?;
     let f_cos = sh.bsdf.eval(sh.wo, l, TransportMode::Radiance) * l.z.abs();
     if f_cos.is_black() {
-        return Rgb::BLACK;
+        return None;
     }
-    counts.shadow += 1;
-    let (shadow, t_max) = shadow_ray(sh.origin_towards(ls.wi), &ls);
-    if scene.occluded(&shadow, t_max) {
-        return Rgb::BLACK;
-    }
+    let (ray, t_max) = shadow_ray(sh.origin_towards(ls.wi), &ls);
     let weight = match strategy.mis {
         Some((heuristic, n_bsdf)) if !ls.delta => {
             let p_bsdf = sh.bsdf.pdf(sh.wo, l, TransportMode::Radiance);
@@ -114,7 +135,11 @@ pub(super) fn light_sample(
         }
         _ => 1.0,
     };
-    f_cos * ls.li * (weight / (p_pick * ls.pdf * strategy.samples))
+    Some(ShadowTest {
+        ray,
+        t_max,
+        value: f_cos * ls.li * (weight / (p_pick * ls.pdf * strategy.samples)),
+    })
 }
 
 /// The MIS weight of a BSDF sample (density `n_bsdf` x `p_bsdf`) that left the scene in

@@ -8,23 +8,90 @@
 //!
 //! `max_depth` has Mitsuba's meaning: the largest number of path segments, so 1 shows the
 //! emitters only, 2 gives direct lighting, and each further unit one more bounce.
+//!
+//! The paths of a batch of camera rays advance in lockstep, one stage at a time over all
+//! of them (a wavefront, as in Laine, Karras and Aila, "Megakernels Considered Harmful",
+//! 2013): closest hits for every live path, then shading and light sampling, then every
+//! shadow ray, then the continuations. Each stage is a loop over the batch, so the rays of
+//! a stage go to the accelerator together ([`Scene::intersect_batch`]). Every path draws
+//! its random numbers and adds its terms in the order a path traced alone would, so a
+//! batch gives exactly the radiance of its paths traced one by one ([`PathTracer::li`] is
+//! a batch of one).
 
-use super::nee::{self, LightStrategy, Shading};
+use super::nee::{self, LightStrategy, Shading, ShadowTest};
 use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts};
 use crate::bsdfs::TransportMode;
 use crate::lights::{AreaSampling, LightSelection};
-use crate::Scene;
+use crate::{Interaction, Scene};
+use glam::Vec3;
 use penumbra_core::{PixelSampler, Ray, Rgb};
 
 /// The depth (path segments) from which Russian roulette may end paths, as in Mitsuba.
 pub const RR_DEPTH: u32 = 5;
 
+/// The most paths traced in lockstep.
+pub const BATCH: usize = 16;
+
 pub struct PathTracer {
     pub options: IntegratorOptions,
 }
 
+/// What one path carries from bounce to bounce.
+#[derive(Clone, Copy)]
+struct PathState {
+    radiance: Rgb,
+    beta: Rgb,
+    ray: Ray,
+    /// The vertex the ray left and the BSDF density of its direction; `None` after the
+    /// camera or a perfectly specular bounce (nothing else could have sampled it).
+    previous: Option<(Vec3, f32)>,
+    /// The product of η² over the refractions so far.
+    eta_scale: f32,
+    alive: bool,
+}
+
 impl Integrator for PathTracer {
     fn li(&self, scene: &Scene, camera_ray: &Ray, sampler: &mut PixelSampler, counts: &mut RayCounts) -> Rgb {
+        let mut out = [Rgb::BLACK];
+        self.li_batch(
+            scene,
+            std::slice::from_ref(camera_ray),
+            std::slice::from_mut(sampler),
+            &mut out,
+            counts,
+        );
+        out[0]
+    }
+
+    fn li_batch(
+        &self,
+        scene: &Scene,
+        camera_rays: &[Ray],
+        samplers: &mut [PixelSampler],
+        out: &mut [Rgb],
+        counts: &mut RayCounts,
+    ) {
+        for ((rays, samplers), out) in camera_rays
+            .chunks(BATCH)
+            .zip(samplers.chunks_mut(BATCH))
+            .zip(out.chunks_mut(BATCH))
+        {
+            self.trace_batch(scene, rays, samplers, out, counts);
+        }
+    }
+}
+
+impl PathTracer {
+    /// Traces up to [`BATCH`] paths in lockstep.
+    fn trace_batch(
+        &self,
+        scene: &Scene,
+        camera_rays: &[Ray],
+        samplers: &mut [PixelSampler],
+        out: &mut [Rgb],
+        counts: &mut RayCounts,
+    ) {
+        let n = camera_rays.len();
         // One shadow ray per vertex: "every light in turn" makes no sense here, and picking
         // by power with `All`'s within-object probabilities would break the MIS weights.
         let selection = match self.options.direct.selection {
@@ -37,90 +104,160 @@ impl Integrator for PathTracer {
             samples: 1.0,
             mis: Some((heuristic, 1.0)),
         };
-        let mut radiance = Rgb::BLACK;
-        let mut beta = Rgb::WHITE;
-        let mut ray = *camera_ray;
-        // The vertex the ray left and the BSDF density of its direction; `None` after the
-        // camera or a perfectly specular bounce (nothing else could have sampled it).
-        let mut previous: Option<(glam::Vec3, f32)> = None;
-        // The product of η² over the refractions so far.
-        let mut eta_scale = 1.0f32;
+        let mut paths: [PathState; BATCH] = std::array::from_fn(|i| PathState {
+            radiance: Rgb::BLACK,
+            beta: Rgb::WHITE,
+            ray: camera_rays.get(i).copied().unwrap_or(Ray::new(Vec3::ZERO, Vec3::Z)),
+            previous: None,
+            eta_scale: 1.0,
+            alive: i < n,
+        });
+        let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); BATCH];
+        let mut live = [0usize; BATCH];
         for depth in 0.. {
-            let Some(it) = scene.intersect(&ray, f32::INFINITY) else {
-                // The environment, weighted against its light sampling as an emitter is.
-                radiance += beta
-                    * match scene.environment() {
-                        Some(env) => {
-                            let weight = previous.map_or(1.0, |(_, p_bsdf)| {
-                                let mis = (selection, heuristic);
-                                nee::environment_weight(scene, mis, env, ray.dir, (1.0, p_bsdf), 1.0)
-                            });
-                            env.1.le(ray.dir) * weight
-                        }
-                        None => scene.background,
-                    };
-                break;
-            };
-            if let Some((index, light)) = scene.emitter_at(&it) {
-                let normal = light.emitter.normal_at(it.surface.p);
-                let le = light.le(normal, it.wo);
-                if !le.is_black() {
-                    let weight = previous.map_or(1.0, |(p, p_bsdf)| {
-                        let hit = (index, light);
-                        nee::emitter_weight(
-                            scene,
-                            (selection, nee.sampling),
-                            heuristic,
-                            p,
-                            hit,
-                            it.surface.p,
-                            normal,
-                            (1.0, p_bsdf),
-                            1.0,
-                        )
-                    });
-                    radiance += beta * le * weight;
-                }
+            // Closest hits of every live path.
+            let mut count = 0;
+            for (i, path) in paths[..n].iter().enumerate().filter(|(_, p)| p.alive) {
+                live[count] = i;
+                rays[count] = path.ray;
+                count += 1;
             }
-            // One more segment would exceed the maximum path length.
-            if depth + 1 >= self.options.max_depth {
+            if count == 0 {
                 break;
+            }
+            let mut hits: [Option<Interaction>; BATCH] = [const { None }; BATCH];
+            scene.intersect_batch(&rays[..count], &mut hits[..count]);
+
+            // Emission met, then light sampling at each surface.
+            let mut shading: [Option<Shading>; BATCH] = [const { None }; BATCH];
+            let mut shadow: [Option<ShadowTest>; BATCH] = [const { None }; BATCH];
+            for k in 0..count {
+                let path = &mut paths[live[k]];
+                let Some(it) = &hits[k] else {
+                    // The environment, weighted against its light sampling as an emitter is.
+                    path.radiance += path.beta
+                        * match scene.environment() {
+                            Some(env) => {
+                                let weight = path.previous.map_or(1.0, |(_, p_bsdf)| {
+                                    let mis = (selection, heuristic);
+                                    nee::environment_weight(scene, mis, env, path.ray.dir, (1.0, p_bsdf), 1.0)
+                                });
+                                env.1.le(path.ray.dir) * weight
+                            }
+                            None => scene.background,
+                        };
+                    path.alive = false;
+                    continue;
+                };
+                if let Some((index, light)) = scene.emitter_at(it) {
+                    let normal = light.emitter.normal_at(it.surface.p);
+                    let le = light.le(normal, it.wo);
+                    if !le.is_black() {
+                        let weight = path.previous.map_or(1.0, |(p, p_bsdf)| {
+                            let hit = (index, light);
+                            nee::emitter_weight(
+                                scene,
+                                (selection, nee.sampling),
+                                heuristic,
+                                p,
+                                hit,
+                                it.surface.p,
+                                normal,
+                                (1.0, p_bsdf),
+                                1.0,
+                            )
+                        });
+                        path.radiance += path.beta * le * weight;
+                    }
+                }
+                // One more segment would exceed the maximum path length.
+                if depth + 1 >= self.options.max_depth {
+                    path.alive = false;
+                    continue;
+                }
+                let sh = Shading::new(it);
+                if sh.bsdf.has_smooth() {
+                    let sampler = &mut samplers[live[k]];
+                    let u_pick = sampler.next_1d();
+                    let u = sampler.next_2d();
+                    if let Some((index, p_pick)) = scene.lights.pick(selection, u_pick) {
+                        shadow[k] = nee::light_sample_unshadowed(scene, &sh, index, p_pick, u, &nee);
+                    }
+                }
+                shading[k] = Some(sh);
             }
 
-            let sh = Shading::new(&it);
-            if sh.bsdf.has_smooth() {
-                let u_pick = sampler.next_1d();
-                let u = sampler.next_2d();
-                if let Some((index, p_pick)) = scene.lights.pick(selection, u_pick) {
-                    radiance += beta * nee::light_sample(scene, &sh, index, p_pick, u, &nee, counts);
+            // Every shadow ray of the batch.
+            let mut tests = [(Ray::new(Vec3::ZERO, Vec3::Z), 0.0f32); BATCH];
+            let mut tested = [0usize; BATCH];
+            let mut m = 0;
+            for (k, test) in shadow[..count].iter().enumerate() {
+                if let Some(test) = test {
+                    tests[m] = (test.ray, test.t_max);
+                    tested[m] = k;
+                    m += 1;
+                }
+            }
+            counts.shadow += m as u64;
+            let mut blocked = [false; BATCH];
+            scene.occluded_batch(&tests[..m], &mut blocked[..m]);
+            for j in 0..m {
+                if blocked[j] {
+                    shadow[tested[j]] = None;
                 }
             }
 
-            // The continuation, drawn from the whole BSDF (delta lobes included).
-            let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
-            let Some(bs) = sh.bsdf.sample(sh.wo, u_lobe, u, TransportMode::Radiance) else {
-                break;
-            };
-            let wi = sh.frame.to_world(bs.wi);
-            if !sh.agrees(wi, bs.wi) {
-                break;
-            }
-            beta *= bs.weight;
-            eta_scale *= bs.eta * bs.eta;
-            counts.secondary += 1;
-            ray = Ray::new(sh.origin_towards(wi), wi);
-            previous = (!bs.delta).then_some((ray.origin, bs.pdf));
-
-            if depth + 1 >= RR_DEPTH {
-                // Survival by the throughput with refraction's 1/η² undone (as Mitsuba and
-                // pbrt-v4), so that paths inside glass are not cut for their scaling alone.
-                let q = (beta.max_component() * eta_scale).min(0.95);
-                if sampler.next_1d() >= q {
-                    break;
+            // Light found, then the continuations.
+            for k in 0..count {
+                let Some(sh) = &shading[k] else {
+                    continue;
+                };
+                let path = &mut paths[live[k]];
+                let sampler = &mut samplers[live[k]];
+                if let Some(test) = &shadow[k] {
+                    path.radiance += path.beta * test.value;
                 }
-                beta = beta / q;
+                path.alive = self.continue_path(sh, path, sampler, depth, counts);
             }
         }
-        radiance
+        for (o, path) in out.iter_mut().zip(&paths) {
+            *o = path.radiance;
+        }
+    }
+
+    /// Draws the continuation of `path` at `sh` from the whole BSDF (delta lobes included)
+    /// and plays Russian roulette; whether the path goes on.
+    fn continue_path(
+        &self,
+        sh: &Shading,
+        path: &mut PathState,
+        sampler: &mut PixelSampler,
+        depth: u32,
+        counts: &mut RayCounts,
+    ) -> bool {
+        let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
+        let Some(bs) = sh.bsdf.sample(sh.wo, u_lobe, u, TransportMode::Radiance) else {
+            return false;
+        };
+        let wi = sh.frame.to_world(bs.wi);
+        if !sh.agrees(wi, bs.wi) {
+            return false;
+        }
+        path.beta *= bs.weight;
+        path.eta_scale *= bs.eta * bs.eta;
+        counts.secondary += 1;
+        path.ray = Ray::new(sh.origin_towards(wi), wi);
+        path.previous = (!bs.delta).then_some((path.ray.origin, bs.pdf));
+
+        if depth + 1 >= RR_DEPTH {
+            // Survival by the throughput with refraction's 1/η² undone (as Mitsuba and
+            // pbrt-v4), so that paths inside glass are not cut for their scaling alone.
+            let q = (path.beta.max_component() * path.eta_scale).min(0.95);
+            if sampler.next_1d() >= q {
+                return false;
+            }
+            path.beta = path.beta / q;
+        }
+        true
     }
 }
