@@ -266,7 +266,7 @@ impl Direct {
             samples: batch as f32,
             mis: (o.sampling == LightSampling::Mis).then_some((o.heuristic, o.light_samples.max(1) as f32)),
         };
-        nee::light_sample(scene, sh, index, p_pick, u, &strategy, counts)
+        nee::light_sample(scene, sh, index, p_pick, u, &strategy).map_or(Rgb::BLACK, |t| t.trace(scene, counts))
     }
 
     /// One BSDF-sampling estimate: a direction from the BSDF and the area light its ray

@@ -77,27 +77,6 @@ pub(super) struct LightStrategy {
     pub mis: Option<(MisHeuristic, f32)>,
 }
 
-/// One light-sampling estimate for light `index`, picked with probability `p_pick`:
-/// f L cos θ V / (p_pick pdf samples), MIS-weighted against BSDF sampling when asked.
-pub(super) fn light_sample(
-    scene: &Scene,
-    sh: &Shading,
-    index: u32,
-    p_pick: f32,
-    u: Vec2,
-    strategy: &LightStrategy,
-    counts: &mut RayCounts,
-) -> Rgb {
-    let Some(test) = light_sample_unshadowed(scene, sh, index, p_pick, u, strategy) else {
-        return Rgb::BLACK;
-    };
-    counts.shadow += 1;
-    if scene.occluded(&test.ray, test.t_max) {
-        return Rgb::BLACK;
-    }
-    test.value
-}
-
 /// A light sample whose visibility is still to be tested: the shadow ray, and what the
 /// sample brings if nothing blocks it.
 #[derive(Clone, Copy, Debug)]
@@ -107,9 +86,23 @@ pub(super) struct ShadowTest {
     pub value: Rgb,
 }
 
-/// [`light_sample`] without the shadow ray: `None` when the sample brings nothing whatever
-/// the visibility.
-pub(super) fn light_sample_unshadowed(
+impl ShadowTest {
+    /// The sample's value with its shadow ray traced (and counted).
+    pub fn trace(&self, scene: &Scene, counts: &mut RayCounts) -> Rgb {
+        counts.shadow += 1;
+        if scene.occluded(&self.ray, self.t_max) {
+            Rgb::BLACK
+        } else {
+            self.value
+        }
+    }
+}
+
+/// One light-sampling estimate for light `index`, picked with probability `p_pick`:
+/// f L cos θ V / (p_pick pdf samples), MIS-weighted against BSDF sampling when asked, with
+/// the visibility V still to be tested ([`ShadowTest::trace`]); `None` when the sample
+/// brings nothing whatever the visibility.
+pub(super) fn light_sample(
     scene: &Scene,
     sh: &Shading,
     index: u32,

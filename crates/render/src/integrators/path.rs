@@ -18,7 +18,7 @@
 //! batch gives exactly the radiance of its paths traced one by one ([`PathTracer::li`] is
 //! a batch of one).
 
-use super::nee::{self, LightStrategy, Shading, ShadowTest};
+use super::nee::{self, LightStrategy, Shading};
 use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts};
 use crate::bsdfs::TransportMode;
 use crate::lights::{AreaSampling, LightSelection};
@@ -34,6 +34,13 @@ pub const BATCH: usize = 16;
 
 pub struct PathTracer {
     pub options: IntegratorOptions,
+}
+
+/// Up to [`BATCH`] camera rays, their samplers and where their radiance goes.
+struct Batch<'a> {
+    rays: &'a [Ray],
+    samplers: &'a mut [PixelSampler],
+    out: &'a mut [Rgb],
 }
 
 /// What one path carries from bounce to bounce.
@@ -76,21 +83,19 @@ impl Integrator for PathTracer {
             .zip(samplers.chunks_mut(BATCH))
             .zip(out.chunks_mut(BATCH))
         {
-            self.trace_batch(scene, rays, samplers, out, counts);
+            self.trace_batch(scene, Batch { rays, samplers, out }, counts);
         }
     }
 }
 
 impl PathTracer {
     /// Traces up to [`BATCH`] paths in lockstep.
-    fn trace_batch(
-        &self,
-        scene: &Scene,
-        camera_rays: &[Ray],
-        samplers: &mut [PixelSampler],
-        out: &mut [Rgb],
-        counts: &mut RayCounts,
-    ) {
+    fn trace_batch(&self, scene: &Scene, batch: Batch, counts: &mut RayCounts) {
+        let Batch {
+            rays: camera_rays,
+            samplers,
+            out,
+        } = batch;
         let n = camera_rays.len();
         // One shadow ray per vertex: "every light in turn" makes no sense here, and picking
         // by power with `All`'s within-object probabilities would break the MIS weights.
@@ -104,16 +109,22 @@ impl PathTracer {
             samples: 1.0,
             mis: Some((heuristic, 1.0)),
         };
+        let no_ray = Ray::new(Vec3::ZERO, Vec3::Z);
         let mut paths: [PathState; BATCH] = std::array::from_fn(|i| PathState {
             radiance: Rgb::BLACK,
             beta: Rgb::WHITE,
-            ray: camera_rays.get(i).copied().unwrap_or(Ray::new(Vec3::ZERO, Vec3::Z)),
+            ray: camera_rays.get(i).copied().unwrap_or(no_ray),
             previous: None,
             eta_scale: 1.0,
             alive: i < n,
         });
-        let mut rays = [Ray::new(Vec3::ZERO, Vec3::Z); BATCH];
+        let mut rays = [no_ray; BATCH];
         let mut live = [0usize; BATCH];
+        let mut hits: [Option<Interaction>; BATCH] = [const { None }; BATCH];
+        // Shadow rays (ray, t_max, path, light brought if unblocked) and their answers.
+        let mut shadow = [(no_ray, 0.0f32, 0usize, Rgb::BLACK); BATCH];
+        let mut shadow_rays = [(no_ray, 0.0f32); BATCH];
+        let mut blocked = [false; BATCH];
         for depth in 0.. {
             // Closest hits of every live path.
             let mut count = 0;
@@ -125,12 +136,11 @@ impl PathTracer {
             if count == 0 {
                 break;
             }
-            let mut hits: [Option<Interaction>; BATCH] = [const { None }; BATCH];
             scene.intersect_batch(&rays[..count], &mut hits[..count]);
 
-            // Emission met, then light sampling at each surface.
-            let mut shading: [Option<Shading>; BATCH] = [const { None }; BATCH];
-            let mut shadow: [Option<ShadowTest>; BATCH] = [const { None }; BATCH];
+            // Emission met, a light sample (its shadow ray kept for later) and the
+            // continuation at each surface.
+            let mut m = 0;
             for k in 0..count {
                 let path = &mut paths[live[k]];
                 let Some(it) = &hits[k] else {
@@ -176,48 +186,33 @@ impl PathTracer {
                     continue;
                 }
                 let sh = Shading::new(it);
+                let sampler = &mut samplers[live[k]];
                 if sh.bsdf.has_smooth() {
-                    let sampler = &mut samplers[live[k]];
                     let u_pick = sampler.next_1d();
                     let u = sampler.next_2d();
-                    if let Some((index, p_pick)) = scene.lights.pick(selection, u_pick) {
-                        shadow[k] = nee::light_sample_unshadowed(scene, &sh, index, p_pick, u, &nee);
+                    let test = scene
+                        .lights
+                        .pick(selection, u_pick)
+                        .and_then(|(index, p_pick)| nee::light_sample(scene, &sh, index, p_pick, u, &nee));
+                    if let Some(test) = test {
+                        // What the light brings if visible, with the throughput up to here.
+                        shadow[m] = (test.ray, test.t_max, live[k], path.beta * test.value);
+                        m += 1;
                     }
                 }
-                shading[k] = Some(sh);
+                path.alive = self.continue_path(&sh, path, sampler, depth, counts);
             }
 
-            // Every shadow ray of the batch.
-            let mut tests = [(Ray::new(Vec3::ZERO, Vec3::Z), 0.0f32); BATCH];
-            let mut tested = [0usize; BATCH];
-            let mut m = 0;
-            for (k, test) in shadow[..count].iter().enumerate() {
-                if let Some(test) = test {
-                    tests[m] = (test.ray, test.t_max);
-                    tested[m] = k;
-                    m += 1;
-                }
-            }
+            // Every shadow ray of the batch, then the light of those that reached it.
             counts.shadow += m as u64;
-            let mut blocked = [false; BATCH];
-            scene.occluded_batch(&tests[..m], &mut blocked[..m]);
-            for j in 0..m {
-                if blocked[j] {
-                    shadow[tested[j]] = None;
-                }
+            for (j, test) in shadow[..m].iter().enumerate() {
+                shadow_rays[j] = (test.0, test.1);
             }
-
-            // Light found, then the continuations.
-            for k in 0..count {
-                let Some(sh) = &shading[k] else {
-                    continue;
-                };
-                let path = &mut paths[live[k]];
-                let sampler = &mut samplers[live[k]];
-                if let Some(test) = &shadow[k] {
-                    path.radiance += path.beta * test.value;
+            scene.occluded_batch(&shadow_rays[..m], &mut blocked[..m]);
+            for (&(_, _, lane, value), &blocked) in shadow[..m].iter().zip(&blocked) {
+                if !blocked {
+                    paths[lane].radiance += value;
                 }
-                path.alive = self.continue_path(sh, path, sampler, depth, counts);
             }
         }
         for (o, path) in out.iter_mut().zip(&paths) {

@@ -42,7 +42,8 @@ impl Whitted {
         let mut radiance = scene.emitted(&it) + scene.ambient * sh.bsdf.albedo();
         // (The environment is seen through the rays that leave the scene only.)
         for index in (0..scene.lights.len() as u32).filter(|&i| Some(i) != scene.environment) {
-            radiance += nee::light_sample(scene, &sh, index, 1.0, Vec2::splat(0.5), &centre, counts);
+            radiance += nee::light_sample(scene, &sh, index, 1.0, Vec2::splat(0.5), &centre)
+                .map_or(Rgb::BLACK, |t| t.trace(scene, counts));
         }
 
         radiance
