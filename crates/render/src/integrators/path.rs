@@ -125,14 +125,23 @@ impl PathTracer {
         let mut shadow = [(no_ray, 0.0f32, 0usize, Rgb::BLACK); BATCH];
         let mut shadow_rays = [(no_ray, 0.0f32); BATCH];
         let mut blocked = [false; BATCH];
+        // The paths still alive, compacted as paths end.
+        for (i, l) in live.iter_mut().enumerate() {
+            *l = i;
+        }
+        let mut count = n;
         for depth in 0.. {
             // Closest hits of every live path.
-            let mut count = 0;
-            for (i, path) in paths[..n].iter().enumerate().filter(|(_, p)| p.alive) {
-                live[count] = i;
-                rays[count] = path.ray;
-                count += 1;
+            let mut still = 0;
+            for j in 0..count {
+                let i = live[j];
+                if paths[i].alive {
+                    live[still] = i;
+                    rays[still] = paths[i].ray;
+                    still += 1;
+                }
             }
+            count = still;
             if count == 0 {
                 break;
             }
