@@ -11,9 +11,10 @@
 //!
 //! The paths of a batch of camera rays advance in lockstep, one stage at a time over all
 //! of them (a wavefront, as in Laine, Karras and Aila, "Megakernels Considered Harmful",
-//! 2013): closest hits for every live path, then shading and light sampling, then every
-//! shadow ray, then the continuations. Each stage is a loop over the batch, so the rays of
-//! a stage go to the accelerator together ([`Scene::intersect_batch`]). Every path draws
+//! 2013): closest hits for every live path; then at each surface the emission met, a light
+//! sample (its shadow ray kept) and the continuation; then every shadow ray. Each stage is
+//! a loop over the batch, so the rays of a stage go to the accelerator together
+//! ([`Scene::intersect_batch`], [`Scene::occluded_batch`]). Every path draws
 //! its random numbers and adds its terms in the order a path traced alone would, so a
 //! batch gives exactly the radiance of its paths traced one by one ([`PathTracer::li`] is
 //! a batch of one).
@@ -121,9 +122,10 @@ impl PathTracer {
         let mut rays = [no_ray; BATCH];
         let mut live = [0usize; BATCH];
         let mut hits: [Option<Interaction>; BATCH] = [const { None }; BATCH];
-        // Shadow rays (ray, t_max, path, light brought if unblocked) and their answers.
-        let mut shadow = [(no_ray, 0.0f32, 0usize, Rgb::BLACK); BATCH];
+        // Shadow rays (ray, t_max), the path and light each brings if unblocked, and the
+        // answers.
         let mut shadow_rays = [(no_ray, 0.0f32); BATCH];
+        let mut shadow_light = [(0usize, Rgb::BLACK); BATCH];
         let mut blocked = [false; BATCH];
         // The paths still alive, compacted as paths end.
         for (i, l) in live.iter_mut().enumerate() {
@@ -205,7 +207,8 @@ impl PathTracer {
                         .and_then(|(index, p_pick)| nee::light_sample(scene, &sh, index, p_pick, u, &nee));
                     if let Some(test) = test {
                         // What the light brings if visible, with the throughput up to here.
-                        shadow[m] = (test.ray, test.t_max, live[k], path.beta * test.value);
+                        shadow_rays[m] = (test.ray, test.t_max);
+                        shadow_light[m] = (live[k], path.beta * test.value);
                         m += 1;
                     }
                 }
@@ -214,11 +217,8 @@ impl PathTracer {
 
             // Every shadow ray of the batch, then the light of those that reached it.
             counts.shadow += m as u64;
-            for (j, test) in shadow[..m].iter().enumerate() {
-                shadow_rays[j] = (test.0, test.1);
-            }
             scene.occluded_batch(&shadow_rays[..m], &mut blocked[..m]);
-            for (&(_, _, lane, value), &blocked) in shadow[..m].iter().zip(&blocked) {
+            for (&(lane, value), &blocked) in shadow_light[..m].iter().zip(&blocked) {
                 if !blocked {
                     paths[lane].radiance += value;
                 }
