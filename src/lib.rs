@@ -79,6 +79,7 @@ pub fn render(desc: &SceneDesc, control: RenderControl) -> Result<RenderResult, 
     let integrator = r.integrator.create(IntegratorOptions {
         max_depth: r.max_depth,
         min_weight: r.min_weight,
+        rr_depth: r.rr_depth,
         direct: r.direct,
     });
     let options = RenderOptions {

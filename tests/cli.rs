@@ -157,6 +157,7 @@ fn bad_scenes_name_the_line_and_exit_2() {
     expect_scene_error("[render]\nspp = 0\n", 2, "expected a whole number from 1 to");
     expect_scene_error("[render]\nwidth = 100000\n", 2, "from 1 to 65536");
     expect_scene_error("[render]\nmax_depth = 1000\n", 2, "from 0 to 256");
+    expect_scene_error("[render]\nrr_depth = 0\n", 2, "from 1 to 256");
     expect_scene_error("[render]\nwidth = 60000\nheight = 60000\n", 3, "pixels");
     expect_scene_error("[[shape]]\ntype = \"sphere\"\nradius = 1e39\n", 3, "finite");
     expect_scene_error("[[shape]]\ntype = \"sphere\"\nradius = 1e-40\n", 1, "degenerate");

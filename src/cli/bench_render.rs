@@ -31,6 +31,9 @@ pub struct RenderBenchArgs {
     /// Sampler for our renders (overrides the scene's): sobol, stratified, halton, independent.
     #[arg(long)]
     pub sampler: Option<String>,
+    /// Path depth from which `path` plays Russian roulette (default: the scene's).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=256))]
+    pub rr_depth: Option<u32>,
     /// A reference image (.exr, .pfm): print our render's relative MSE against it and, with
     /// --mitsuba, the time each renderer needs for the same error.
     #[arg(long = "ref", value_name = "R")]
@@ -49,6 +52,9 @@ pub fn run(args: RenderBenchArgs) -> Result<(), Failure> {
     let bad = |m: String| Failure::BadInput(miette::miette!("{m}"));
     let mut desc = penumbra::scene::read_scene(&args.scene).map_err(|e| Failure::BadInput(e.into()))?;
     desc.render.spp = args.spp;
+    if let Some(d) = args.rr_depth {
+        desc.render.rr_depth = d;
+    }
     if let Some(name) = &args.sampler {
         desc.render.sampler = SamplerKind::from_name(name).ok_or_else(|| {
             bad(format!(

@@ -52,6 +52,9 @@ fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) -> Result<(), Failur
     if let Some(d) = args.max_depth {
         r.max_depth = d;
     }
+    if let Some(d) = args.rr_depth {
+        r.rr_depth = d;
+    }
     if let Some(w) = args.min_weight {
         r.min_weight = w;
     }

@@ -36,6 +36,8 @@ pub struct RenderDesc {
     pub seed: u64,
     pub integrator: IntegratorKind,
     pub max_depth: u32,
+    /// The depth from which `path` plays Russian roulette.
+    pub rr_depth: u32,
     pub min_weight: f32,
     pub sampler: SamplerKind,
     pub filter: Filter,
@@ -53,6 +55,7 @@ impl Default for RenderDesc {
             seed: 0,
             integrator: IntegratorKind::Whitted,
             max_depth: 5,
+            rr_depth: penumbra_render::integrators::RR_DEPTH,
             min_weight: 1e-3,
             sampler: SamplerKind::default(),
             filter: Filter::default(),

@@ -71,6 +71,9 @@ pub struct IntegratorOptions {
     pub max_depth: u32,
     /// Rays whose accumulated weight falls below this are not traced.
     pub min_weight: f32,
+    /// The path depth (segments) from which `path` plays Russian roulette (Mitsuba's
+    /// `rr_depth`); at `max_depth` or above, never.
+    pub rr_depth: u32,
     /// Settings of the `direct` integrator.
     pub direct: DirectOptions,
 }
@@ -80,6 +83,7 @@ impl Default for IntegratorOptions {
         IntegratorOptions {
             max_depth: 5,
             min_weight: 1e-3,
+            rr_depth: RR_DEPTH,
             direct: DirectOptions::default(),
         }
     }

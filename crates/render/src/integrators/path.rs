@@ -27,7 +27,7 @@ use crate::{Interaction, Scene};
 use glam::Vec3;
 use penumbra_core::{PixelSampler, Ray, Rgb};
 
-/// The depth (path segments) from which Russian roulette may end paths, as in Mitsuba.
+/// The default depth (path segments) from which Russian roulette may end paths, Mitsuba's.
 pub const RR_DEPTH: u32 = 5;
 
 /// The most paths traced in lockstep.
@@ -253,7 +253,7 @@ impl PathTracer {
         path.ray = Ray::new(sh.origin_towards(wi), wi);
         path.previous = (!bs.delta).then_some((path.ray.origin, bs.pdf));
 
-        if depth + 1 >= RR_DEPTH {
+        if depth + 1 >= self.options.rr_depth {
             // Survival by the throughput with refraction's 1/η² undone (as Mitsuba and
             // pbrt-v4), so that paths inside glass are not cut for their scaling alone.
             let q = (path.beta.max_component() * path.eta_scale).min(0.95);

@@ -145,6 +145,7 @@ fn read_render(t: &Table) -> Result<RenderDesc> {
         seed: int("seed", 0..=i64::MAX, d.seed)?,
         integrator,
         max_depth: int("max_depth", 0..=MAX_DEPTH_LIMIT as i64, d.max_depth as u64)? as u32,
+        rr_depth: int("rr_depth", 1..=MAX_DEPTH_LIMIT as i64, d.rr_depth as u64)? as u32,
         min_weight,
         sampler,
         filter: match t.table("filter")? {
