@@ -24,6 +24,20 @@ impl F8 {
     }
 }
 
+impl F8 {
+    /// The mask that holds in lane `k` where `b[k]`.
+    #[inline(always)]
+    pub fn mask(b: [bool; 8]) -> wide::f32x8 {
+        wide::f32x8::from(b.map(|b| f32::from_bits(if b { u32::MAX } else { 0 })))
+    }
+
+    /// Bit `k` set where `mask` holds in lane `k`.
+    #[inline(always)]
+    pub fn mask_bits(mask: wide::f32x8) -> u32 {
+        mask.move_mask() as u32
+    }
+}
+
 impl From<[f32; 8]> for F8 {
     #[inline(always)]
     fn from(a: [f32; 8]) -> Self {
@@ -71,6 +85,8 @@ pub trait Real:
     fn cmp_gt(self, other: Self) -> Self::Mask;
     fn cmp_eq(self, other: Self) -> Self::Mask;
     fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
+    fn or(a: Self::Mask, b: Self::Mask) -> Self::Mask;
+    fn not(a: Self::Mask) -> Self::Mask;
     /// Per lane: `t` where `mask` holds, else `f`.
     fn select(mask: Self::Mask, t: Self, f: Self) -> Self;
     /// The coordinate `self` of a surface point moved along the normal component `n` by a
@@ -125,6 +141,14 @@ impl Real for f32 {
     #[inline(always)]
     fn and(a: bool, b: bool) -> bool {
         a && b
+    }
+    #[inline(always)]
+    fn or(a: bool, b: bool) -> bool {
+        a || b
+    }
+    #[inline(always)]
+    fn not(a: bool) -> bool {
+        !a
     }
     #[inline(always)]
     fn select(mask: bool, t: Self, f: Self) -> Self {
@@ -191,6 +215,14 @@ impl Real for F8 {
         a & b
     }
     #[inline(always)]
+    fn or(a: wide::f32x8, b: wide::f32x8) -> wide::f32x8 {
+        a | b
+    }
+    #[inline(always)]
+    fn not(a: wide::f32x8) -> wide::f32x8 {
+        !a
+    }
+    #[inline(always)]
     fn select(mask: wide::f32x8, t: Self, f: Self) -> Self {
         F8(mask.blend(t.0, f.0))
     }
@@ -252,6 +284,18 @@ impl<R: Real> V3<R> {
         (self.scale(rcp), ok)
     }
 
+    /// Component by component, as glam multiplies vectors (and `Rgb` colours).
+    #[inline(always)]
+    pub fn mul_each(self, o: Self) -> Self {
+        V3::new(self.x * o.x, self.y * o.y, self.z * o.z)
+    }
+
+    /// Each component over `s`, as glam divides a vector by a number (no reciprocal).
+    #[inline(always)]
+    pub fn div_by(self, s: R) -> Self {
+        V3::new(self.x / s, self.y / s, self.z / s)
+    }
+
     /// Per lane: `t` where `mask` holds, else `f`.
     #[inline(always)]
     pub fn select(mask: R::Mask, t: Self, f: Self) -> Self {
@@ -268,6 +312,14 @@ impl<R: Real> std::ops::Sub for V3<R> {
     #[inline(always)]
     fn sub(self, o: Self) -> Self {
         V3::new(self.x - o.x, self.y - o.y, self.z - o.z)
+    }
+}
+
+impl<R: Real> Neg for V3<R> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        V3::new(-self.x, -self.y, -self.z)
     }
 }
 

@@ -3,6 +3,7 @@
 //! Integrators are the one open family (a trait object); each is a file here, one variant
 //! in [`IntegratorKind`] and one arm in [`IntegratorKind::create`].
 
+mod diffuse_lanes;
 mod direct;
 mod nee;
 mod path;
@@ -113,7 +114,7 @@ impl IntegratorKind {
         match self {
             IntegratorKind::Whitted => Box::new(Whitted { options }),
             IntegratorKind::Direct => Box::new(Direct { options }),
-            IntegratorKind::Path => Box::new(PathTracer { options }),
+            IntegratorKind::Path => Box::new(PathTracer::new(options)),
         }
     }
 }

@@ -19,12 +19,14 @@
 //! batch gives exactly the radiance of its paths traced one by one ([`PathTracer::li`] is
 //! a batch of one).
 
+use super::diffuse_lanes::{self, DiffuseHit, TriangleLight};
 use super::nee::{self, LightStrategy, Shading};
 use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts};
 use crate::bsdfs::TransportMode;
-use crate::lights::{AreaSampling, LightSelection};
-use crate::{Interaction, Scene};
-use glam::Vec3;
+use crate::lights::{AreaSampling, Light, LightSelection};
+use crate::{Interaction, Material, Scene, Texture};
+use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{F8, V3};
 use penumbra_core::{PixelSampler, Ray, Rgb};
 
 /// The default depth (path segments) from which Russian roulette may end paths, Mitsuba's.
@@ -35,6 +37,50 @@ pub const BATCH: usize = 16;
 
 pub struct PathTracer {
     pub options: IntegratorOptions,
+    /// Bounces at plain Lambertian surfaces taken eight paths at a time
+    /// ([`diffuse_lanes`]); the same image either way, `false` only to show that.
+    pub eight_wide: bool,
+}
+
+impl PathTracer {
+    pub fn new(options: IntegratorOptions) -> Self {
+        PathTracer {
+            options,
+            eight_wide: true,
+        }
+    }
+}
+
+/// A path at a plain Lambertian surface waiting for the eight-lane bounce, its random
+/// numbers drawn in the order the scalar bounce draws them.
+#[derive(Clone, Copy)]
+struct DiffuseLane {
+    /// Where the path is in this depth's hits.
+    k: usize,
+    reflectance: Rgb,
+    two_sided: bool,
+    /// The light picked, with its probability.
+    light: Option<(u32, f32)>,
+    u_light: Vec2,
+    u_dir: Vec2,
+    /// For Russian roulette, drawn whether or not it is played (a path that does not
+    /// play it ends here, so its later dimensions are never used).
+    u_rr: f32,
+}
+
+/// The colour and sidedness of a material the eight-lane bounce takes: Lambertian with a
+/// constant, non-black reflectance, one- or two-sided, no normal map.
+fn plain_diffuse(material: &Material) -> Option<(Rgb, bool)> {
+    let constant = |m: &Material| match m {
+        Material::Diffuse {
+            reflectance: Texture::Constant(c),
+        } if !c.is_black() => Some(*c),
+        _ => None,
+    };
+    match material {
+        Material::TwoSided(inner) => constant(inner).map(|c| (c, true)),
+        m => constant(m).map(|c| (c, false)),
+    }
 }
 
 /// Up to [`BATCH`] camera rays, their samplers and where their radiance goes.
@@ -56,6 +102,21 @@ struct PathState {
     /// The product of η² over the refractions so far.
     eta_scale: f32,
     alive: bool,
+}
+
+/// The shadow rays of a depth, the path and light each brings if unblocked.
+struct Shadows<'a> {
+    rays: &'a mut [(Ray, f32); BATCH],
+    light: &'a mut [(usize, Rgb); BATCH],
+    len: usize,
+}
+
+impl Shadows<'_> {
+    fn push(&mut self, ray: (Ray, f32), light: (usize, Rgb)) {
+        self.rays[self.len] = ray;
+        self.light[self.len] = light;
+        self.len += 1;
+    }
 }
 
 impl Integrator for PathTracer {
@@ -127,6 +188,15 @@ impl PathTracer {
         let mut shadow_rays = [(no_ray, 0.0f32); BATCH];
         let mut shadow_light = [(0usize, Rgb::BLACK); BATCH];
         let mut blocked = [false; BATCH];
+        let mut diffuse = [DiffuseLane {
+            k: 0,
+            reflectance: Rgb::BLACK,
+            two_sided: false,
+            light: None,
+            u_light: Vec2::ZERO,
+            u_dir: Vec2::ZERO,
+            u_rr: 0.0,
+        }; BATCH];
         // The paths still alive, compacted as paths end.
         for (i, l) in live.iter_mut().enumerate() {
             *l = i;
@@ -150,8 +220,10 @@ impl PathTracer {
             scene.intersect_batch(&rays[..count], &mut hits[..count]);
 
             // Emission met, a light sample (its shadow ray kept for later) and the
-            // continuation at each surface.
+            // continuation at each surface; plain Lambertian surfaces after the others,
+            // eight at a time.
             let mut m = 0;
+            let mut nd = 0;
             for k in 0..count {
                 let path = &mut paths[live[k]];
                 let Some(it) = &hits[k] else {
@@ -196,8 +268,29 @@ impl PathTracer {
                     path.alive = false;
                     continue;
                 }
-                let sh = Shading::new(it);
                 let sampler = &mut samplers[live[k]];
+                if let Some((reflectance, two_sided)) = plain_diffuse(it.material).filter(|_| self.eight_wide) {
+                    let u_pick = sampler.next_1d();
+                    let u_light = sampler.next_2d();
+                    let _u_lobe = sampler.next_1d();
+                    let u_dir = sampler.next_2d();
+                    diffuse[nd] = DiffuseLane {
+                        k,
+                        reflectance,
+                        two_sided,
+                        light: scene.lights.pick(selection, u_pick),
+                        u_light,
+                        u_dir,
+                        u_rr: if depth + 1 >= self.options.rr_depth {
+                            sampler.next_1d()
+                        } else {
+                            0.0
+                        },
+                    };
+                    nd += 1;
+                    continue;
+                }
+                let sh = Shading::new(it);
                 if sh.bsdf.has_smooth() {
                     let u_pick = sampler.next_1d();
                     let u = sampler.next_2d();
@@ -214,6 +307,24 @@ impl PathTracer {
                 }
                 path.alive = self.continue_path(&sh, path, sampler, depth, counts);
             }
+
+            let mut shadows = Shadows {
+                rays: &mut shadow_rays,
+                light: &mut shadow_light,
+                len: m,
+            };
+            for group in diffuse[..nd].chunks(8) {
+                self.diffuse_bounces(
+                    scene,
+                    group,
+                    (&hits, &live),
+                    &mut paths,
+                    &mut shadows,
+                    (depth, &nee),
+                    counts,
+                );
+            }
+            let m = shadows.len;
 
             // Every shadow ray of the batch, then the light of those that reached it.
             counts.shadow += m as u64;
@@ -253,15 +364,111 @@ impl PathTracer {
         path.ray = Ray::new(sh.origin_towards(wi), wi);
         path.previous = (!bs.delta).then_some((path.ray.origin, bs.pdf));
 
+        self.roulette(path, depth, || sampler.next_1d())
+    }
+
+    /// Russian roulette from `rr_depth` on, with `u()` the path's next random number;
+    /// whether the path survives. Survival by the throughput with refraction's 1/η²
+    /// undone (as Mitsuba and pbrt-v4), so that paths inside glass are not cut for their
+    /// scaling alone.
+    fn roulette(&self, path: &mut PathState, depth: u32, u: impl FnOnce() -> f32) -> bool {
         if depth + 1 >= self.options.rr_depth {
-            // Survival by the throughput with refraction's 1/η² undone (as Mitsuba and
-            // pbrt-v4), so that paths inside glass are not cut for their scaling alone.
             let q = (path.beta.max_component() * path.eta_scale).min(0.95);
-            if sampler.next_1d() >= q {
+            if u() >= q {
                 return false;
             }
             path.beta = path.beta / q;
         }
         true
+    }
+
+    /// The light samples and continuations of up to eight paths at plain Lambertian
+    /// surfaces, in eight lanes ([`diffuse_lanes::bounce`]); light samples the lanes do
+    /// not take (other kinds of light, triangles near enough to be sampled by solid angle)
+    /// by [`nee::light_sample`].
+    #[allow(clippy::too_many_arguments)]
+    fn diffuse_bounces(
+        &self,
+        scene: &Scene,
+        group: &[DiffuseLane],
+        (hits, live): (&[Option<Interaction>; BATCH], &[usize; BATCH]),
+        paths: &mut [PathState; BATCH],
+        shadows: &mut Shadows,
+        (depth, nee): (u32, &LightStrategy),
+        counts: &mut RayCounts,
+    ) {
+        let n = group.len();
+        // Lanes past the group's end repeat its last path; their results are dropped.
+        let lane = |j: usize| &group[j.min(n - 1)];
+        let it = |j: usize| hits[lane(j).k].as_ref().expect("a diffuse lane has a hit");
+        let triangle = |j: usize| {
+            let (index, p_pick) = lane(j).light?;
+            let Light::Area(light) = &scene.lights.lights()[index as usize] else {
+                return None;
+            };
+            let (v, normal, centroid) = light.emitter.triangle_parts()?;
+            Some((v, normal, centroid, light, p_pick))
+        };
+        let v3 = |f: &dyn Fn(usize) -> Vec3| V3::<F8>::from_lanes(&std::array::from_fn(f));
+        let f8 = |f: &dyn Fn(usize) -> f32| F8::from(std::array::from_fn::<f32, 8, _>(f));
+        let rgb = |c: Rgb| Vec3::new(c.r, c.g, c.b);
+        let tris: [_; 8] = std::array::from_fn(triangle);
+        let corner = |c: usize| v3(&|j| tris[j].map_or(Vec3::ZERO, |t| t.0[c]));
+        let hit = DiffuseHit {
+            p: v3(&|j| it(j).surface.p),
+            ng: v3(&|j| it(j).surface.ng),
+            ns: v3(&|j| it(j).surface.ns),
+            dpdu: v3(&|j| it(j).surface.dpdu),
+            wo: v3(&|j| it(j).wo),
+            reflectance: v3(&|j| rgb(lane(j).reflectance)),
+            two_sided: F8::mask(std::array::from_fn(|j| lane(j).two_sided)),
+            beta: v3(&|j| rgb(paths[live[lane(j).k]].beta)),
+        };
+        let light = TriangleLight {
+            v: [corner(0), corner(1), corner(2)],
+            normal: v3(&|j| tris[j].map_or(Vec3::ZERO, |t| t.1)),
+            centroid: v3(&|j| tris[j].map_or(Vec3::ZERO, |t| t.2)),
+            area: f8(&|j| tris[j].map_or(0.0, |t| t.3.emitter.area())),
+            radiance: v3(&|j| tris[j].map_or(Vec3::ZERO, |t| rgb(t.3.radiance))),
+            two_sided: F8::mask(std::array::from_fn(|j| tris[j].is_some_and(|t| t.3.two_sided))),
+            p_pick: f8(&|j| tris[j].map_or(0.0, |t| t.4)),
+        };
+        let u_light = (f8(&|j| lane(j).u_light.x), f8(&|j| lane(j).u_light.y));
+        let u_dir = (f8(&|j| lane(j).u_dir.x), f8(&|j| lane(j).u_dir.y));
+        let (lo, co) = diffuse_lanes::bounce(&hit, &light, u_light, u_dir);
+
+        let (by_area, lit) = (F8::mask_bits(lo.by_area), F8::mask_bits(lo.ok));
+        let (l_origin, l_dir, l_value) = (lo.origin.to_lanes(), lo.dir.to_lanes(), lo.value.to_lanes());
+        let (c_ok, c_pdf) = (F8::mask_bits(co.ok), co.pdf.to_array());
+        let (c_origin, c_dir, c_beta) = (co.origin.to_lanes(), co.dir.to_lanes(), co.beta.to_lanes());
+        for (j, d) in group.iter().enumerate() {
+            let i = live[d.k];
+            if let Some((index, p_pick)) = d.light {
+                if tris[j].is_some() && by_area >> j & 1 != 0 {
+                    if lit >> j & 1 != 0 {
+                        let v = l_value[j];
+                        let ray = (
+                            Ray::new(l_origin[j], l_dir[j]),
+                            1.0 - penumbra_core::ray::SHADOW_EPSILON,
+                        );
+                        shadows.push(ray, (i, Rgb::new(v.x, v.y, v.z)));
+                    }
+                } else {
+                    let sh = Shading::new(it(j));
+                    if let Some(test) = nee::light_sample(scene, &sh, index, p_pick, d.u_light, nee) {
+                        shadows.push((test.ray, test.t_max), (i, paths[i].beta * test.value));
+                    }
+                }
+            }
+            let path = &mut paths[i];
+            path.alive = c_ok >> j & 1 != 0 && {
+                let b = c_beta[j];
+                path.beta = Rgb::new(b.x, b.y, b.z);
+                counts.secondary += 1;
+                path.ray = Ray::new(c_origin[j], c_dir[j]);
+                path.previous = Some((c_origin[j], c_pdf[j]));
+                self.roulette(path, depth, || d.u_rr)
+            };
+        }
     }
 }

@@ -90,6 +90,15 @@ impl Emitter {
         self.area
     }
 
+    /// A triangle's corners, unit front normal and centroid (for the lane kernels, which
+    /// sample triangles by area); `None` for other shapes.
+    pub fn triangle_parts(&self) -> Option<([Vec3; 3], Vec3, Vec3)> {
+        match (&self.shape, self.centroid) {
+            (EmitterShape::Triangle { v }, Some(c)) => Some((*v, self.normal, c)),
+            _ => None,
+        }
+    }
+
     /// The unit front normal at `point`, a point of the emitter.
     pub fn normal_at(&self, point: Vec3) -> Vec3 {
         match &self.shape {

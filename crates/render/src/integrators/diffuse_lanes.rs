@@ -1,0 +1,224 @@
+//! The path tracer's bounce at a Lambertian surface lit by triangle lights, written once
+//! for lanes of any [`Real`] type, so that eight paths take it in one pass of AVX
+//! instructions ([`F8`](penumbra_core::lanes::F8)): the shading frame, a light sample by
+//! area with its MIS weight (power heuristic against the cosine-weighted BSDF density,
+//! Veach and Guibas 1995), and the cosine-weighted continuation (Malley's method).
+//!
+//! Every step performs the IEEE operations of the scalar path ([`super::nee::Shading`],
+//! [`super::nee::light_sample`], `Bsdf::sample` of a [`Diffuse`](crate::bsdfs::Diffuse)
+//! BSDF and [`super::path`]'s continuation) in their order, branches turned into masks, so
+//! each lane's result is bit for bit what the scalar code gives that path.
+//! `diffuse_lanes_equal_the_scalar_bounce` in `tests/path.rs` holds it to that.
+
+use super::MisHeuristic;
+use crate::lights::emitter::{area_to_solid_angle, triangle_point, SMALL_SOLID_ANGLE};
+use penumbra_core::frame::Basis;
+use penumbra_core::lanes::{Real, V3};
+use penumbra_core::ray::offset_origin_lanes;
+use penumbra_core::warp::{cosine_hemisphere_lanes, uniform_triangle_lanes};
+use std::f32::consts::FRAC_1_PI;
+
+/// A path at a Lambertian surface.
+#[derive(Clone, Copy)]
+pub(super) struct DiffuseHit<R: Real> {
+    pub p: V3<R>,
+    /// The geometric normal as the surface gives it (not yet turned towards `wo`).
+    pub ng: V3<R>,
+    pub ns: V3<R>,
+    pub dpdu: V3<R>,
+    /// Unit direction back along the ray, world space.
+    pub wo: V3<R>,
+    pub reflectance: V3<R>,
+    /// Mitsuba's `twosided`: the back reflects like the front.
+    pub two_sided: R::Mask,
+    /// The path throughput up to this surface.
+    pub beta: V3<R>,
+}
+
+/// The triangle light a path picked, with its probability.
+#[derive(Clone, Copy)]
+pub(super) struct TriangleLight<R: Real> {
+    pub v: [V3<R>; 3],
+    pub normal: V3<R>,
+    pub centroid: V3<R>,
+    pub area: R,
+    pub radiance: V3<R>,
+    pub two_sided: R::Mask,
+    pub p_pick: R,
+}
+
+/// A light sample: where its shadow ray may go, and what it brings (the throughput
+/// included) if nothing blocks it.
+pub(super) struct LightOut<R: Real> {
+    /// The light looks small from the shading point, so the scalar path samples it by
+    /// area as this does; elsewhere (`false`) the lane's sample must be taken by
+    /// [`super::nee::light_sample`], by solid angle.
+    pub by_area: R::Mask,
+    /// A sample that brings light if unblocked (only meaningful where `by_area`).
+    pub ok: R::Mask,
+    pub origin: V3<R>,
+    /// Shadow ray direction: from `origin` to the point on the light (not unit).
+    pub dir: V3<R>,
+    pub value: V3<R>,
+}
+
+/// The continuation: the next ray and what the path carries along it.
+pub(super) struct ContinuationOut<R: Real> {
+    pub ok: R::Mask,
+    pub origin: V3<R>,
+    pub dir: V3<R>,
+    /// Solid-angle density of `dir` (for MIS at the emitter it reaches).
+    pub pdf: R,
+    /// The throughput times f cos θ / pdf (the reflectance).
+    pub beta: V3<R>,
+}
+
+/// [`super::nee::Shading`] of a Lambertian surface: frame, `wo` in it, the geometric
+/// normal on `wo`'s side, the offset origin.
+struct Shading<R: Real> {
+    frame: Basis<R>,
+    wo: V3<R>,
+    ng: V3<R>,
+    origin: V3<R>,
+    p: V3<R>,
+    /// The BSDF works on directions mirrored to the front (two-sided, seen from behind).
+    mirrored: R::Mask,
+}
+
+impl<R: Real> Shading<R> {
+    #[inline(always)]
+    fn new(h: &DiffuseHit<R>) -> Self {
+        let zero = R::splat(0.0);
+        let frame = Basis::from_normal_tangent(h.ns, h.dpdu);
+        let ng = V3::select(h.ng.dot(h.wo).cmp_lt(zero), -h.ng, h.ng);
+        let wo = frame.to_local(h.wo);
+        Shading {
+            frame,
+            wo,
+            ng,
+            origin: offset_origin_lanes(h.p, ng),
+            p: h.p,
+            mirrored: R::and(h.two_sided, wo.z.cmp_lt(zero)),
+        }
+    }
+
+    /// [`super::nee::Shading::agrees`].
+    #[inline(always)]
+    fn agrees(&self, wi: V3<R>, l: V3<R>) -> R::Mask {
+        let zero = R::splat(0.0);
+        let a = self.ng.dot(wi).cmp_gt(zero);
+        let b = (l.z * self.wo.z).cmp_gt(zero);
+        let same = R::or(R::and(a, b), R::and(R::not(a), R::not(b)));
+        R::and(R::not(l.z.cmp_eq(zero)), same)
+    }
+
+    /// [`super::nee::Shading::origin_towards`].
+    #[inline(always)]
+    fn origin_towards(&self, wi: V3<R>) -> V3<R> {
+        let front = R::splat(0.0).cmp_le(self.ng.dot(wi));
+        V3::select(front, self.origin, offset_origin_lanes(self.p, -self.ng))
+    }
+
+    /// The z of a local direction as the (mirrored) BSDF sees it.
+    #[inline(always)]
+    fn bsdf_z(&self, z: R) -> R {
+        R::select(self.mirrored, -z, z)
+    }
+}
+
+/// Where all three channels are zero ([`penumbra_core::Rgb::is_black`]).
+#[inline(always)]
+fn is_black<R: Real>(c: V3<R>) -> R::Mask {
+    let zero = R::splat(0.0);
+    R::and(R::and(c.x.cmp_eq(zero), c.y.cmp_eq(zero)), c.z.cmp_eq(zero))
+}
+
+/// Where every component is finite.
+#[inline(always)]
+fn is_finite<R: Real>(v: V3<R>) -> R::Mask {
+    let inf = R::splat(f32::INFINITY);
+    R::and(
+        R::and(v.x.abs().cmp_lt(inf), v.y.abs().cmp_lt(inf)),
+        v.z.abs().cmp_lt(inf),
+    )
+}
+
+/// One bounce: the light sample from `u_light` on `light` (area sampling, MIS weight
+/// against the BSDF) and the continuation from `u_dir`.
+#[inline(always)]
+pub(super) fn bounce<R: Real>(
+    h: &DiffuseHit<R>,
+    light: &TriangleLight<R>,
+    u_light: (R, R),
+    u_dir: (R, R),
+) -> (LightOut<R>, ContinuationOut<R>) {
+    let sh = Shading::new(h);
+    (light_sample(h, &sh, light, u_light), continuation(h, &sh, u_dir))
+}
+
+#[inline(always)]
+fn light_sample<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, light: &TriangleLight<R>, u: (R, R)) -> LightOut<R> {
+    let (zero, one, inf) = (R::splat(0.0), R::splat(1.0), R::splat(f32::INFINITY));
+    let to_centroid = light.centroid - sh.origin;
+    let by_area = light
+        .area
+        .cmp_lt(R::splat(SMALL_SOLID_ANGLE) * to_centroid.dot(to_centroid));
+
+    // The emitter's point by area and its solid-angle density (`Emitter::sample_uniform`),
+    // then `AreaLight::to_light_sample`.
+    let (b1, b2) = uniform_triangle_lanes(u.0, u.1);
+    let point = triangle_point(light.v, b1, b2);
+    let (pdf, defined) = area_to_solid_angle(sh.origin, point, light.normal, light.area);
+    let d = point - sh.origin;
+    let dist = d.dot(d).sqrt();
+    let sane = R::and(
+        R::and(dist.cmp_gt(zero), dist.cmp_lt(inf)),
+        R::and(pdf.cmp_lt(inf), pdf.cmp_gt(zero)),
+    );
+    let wi = d.div_by(dist);
+    let emits = R::or(light.two_sided, light.normal.dot(-wi).cmp_gt(zero));
+    let li = V3::select(emits, light.radiance, V3::new(zero, zero, zero));
+
+    // `nee::light_sample`: the BSDF's value and density towards it, the MIS weight.
+    let l = sh.frame.to_local(wi);
+    let (wo_z, l_z) = (sh.bsdf_z(sh.wo.z), sh.bsdf_z(l.z));
+    let front = R::and(wo_z.cmp_gt(zero), l_z.cmp_gt(zero));
+    let black = V3::new(zero, zero, zero);
+    let f_cos = V3::select(front, h.reflectance.scale(R::splat(FRAC_1_PI)), black).scale(l.z.abs());
+    let origin = sh.origin_towards(wi);
+    let target = origin + wi.scale(dist);
+    let same_side = R::and(wo_z.cmp_gt(zero), (wo_z * l_z).cmp_gt(zero));
+    let p_bsdf = R::select(same_side, l_z.max(zero) * R::splat(FRAC_1_PI), zero);
+    let weight = MisHeuristic::Power.weight_lanes(one * light.p_pick * pdf, one * p_bsdf);
+    let value = f_cos.mul_each(li).scale(weight / (light.p_pick * pdf * one));
+
+    let ok = R::and(
+        R::and(R::and(defined, sane), R::and(R::not(is_black(li)), is_finite(wi))),
+        R::and(sh.agrees(wi, l), R::not(is_black(f_cos))),
+    );
+    LightOut {
+        by_area,
+        ok,
+        origin,
+        dir: target - origin,
+        value: h.beta.mul_each(value),
+    }
+}
+
+#[inline(always)]
+fn continuation<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, u: (R, R)) -> ContinuationOut<R> {
+    let zero = R::splat(0.0);
+    // `Diffuse::sample` on the mirrored side, then flipped back.
+    let facing = R::not(sh.bsdf_z(sh.wo.z).cmp_le(zero));
+    let w = cosine_hemisphere_lanes(u.0, u.1);
+    let pdf = w.z.max(zero) * R::splat(FRAC_1_PI);
+    let local = V3::new(w.x, w.y, sh.bsdf_z(w.z));
+    let wi = sh.frame.to_world(local);
+    ContinuationOut {
+        ok: R::and(R::and(facing, pdf.cmp_gt(zero)), sh.agrees(wi, local)),
+        origin: sh.origin_towards(wi),
+        dir: wi,
+        pdf,
+        beta: h.beta.mul_each(h.reflectance),
+    }
+}
