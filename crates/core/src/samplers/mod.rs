@@ -138,6 +138,13 @@ impl PixelSampler {
         }
     }
 
+    /// Passes over the next `n` dimensions without computing them: what drawing and
+    /// ignoring them would leave (every dimension is a pure function of its number).
+    #[inline]
+    pub fn skip(&mut self, n: u32) {
+        self.dimension += n;
+    }
+
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
         let key = self.next_key();

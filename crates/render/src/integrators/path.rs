@@ -104,6 +104,46 @@ struct PathState {
     alive: bool,
 }
 
+/// The inputs of eight lanes, gathered into columns of eight floats.
+struct Columns([[f32; 8]; Columns::COUNT]);
+
+impl Columns {
+    const P: usize = 0;
+    const NG: usize = 3;
+    const NS: usize = 6;
+    const DPDU: usize = 9;
+    const WO: usize = 12;
+    const REFLECTANCE: usize = 15;
+    const BETA: usize = 18;
+    /// The light triangle's corners, nine columns.
+    const V: usize = 21;
+    const LIGHT_NORMAL: usize = 30;
+    const CENTROID: usize = 33;
+    const RADIANCE: usize = 36;
+    const AREA: usize = 39;
+    const P_PICK: usize = 40;
+    const U_LIGHT: usize = 41;
+    const U_DIR: usize = 43;
+    const COUNT: usize = 45;
+
+    #[inline(always)]
+    fn put(&mut self, column: usize, lane: usize, v: Vec3) {
+        self.0[column][lane] = v.x;
+        self.0[column + 1][lane] = v.y;
+        self.0[column + 2][lane] = v.z;
+    }
+
+    #[inline(always)]
+    fn f8(&self, column: usize) -> F8 {
+        F8::from(self.0[column])
+    }
+
+    #[inline(always)]
+    fn v3(&self, column: usize) -> V3<F8> {
+        V3::new(self.f8(column), self.f8(column + 1), self.f8(column + 2))
+    }
+}
+
 /// The shadow rays of a depth, the path and light each brings if unblocked.
 struct Shadows<'a> {
     rays: &'a mut [(Ray, f32); BATCH],
@@ -272,7 +312,8 @@ impl PathTracer {
                 if let Some((reflectance, two_sided)) = plain_diffuse(it.material).filter(|_| self.eight_wide) {
                     let u_pick = sampler.next_1d();
                     let u_light = sampler.next_2d();
-                    let _u_lobe = sampler.next_1d();
+                    // The lobe choice: a Lambertian BSDF has one lobe.
+                    sampler.skip(1);
                     let u_dir = sampler.next_2d();
                     diffuse[nd] = DiffuseLane {
                         k,
@@ -409,32 +450,57 @@ impl PathTracer {
             let (v, normal, centroid) = light.emitter.triangle_parts()?;
             Some((v, normal, centroid, light, p_pick))
         };
-        let v3 = |f: &dyn Fn(usize) -> Vec3| V3::<F8>::from_lanes(&std::array::from_fn(f));
-        let f8 = |f: &dyn Fn(usize) -> f32| F8::from(std::array::from_fn::<f32, 8, _>(f));
         let rgb = |c: Rgb| Vec3::new(c.r, c.g, c.b);
-        let tris: [_; 8] = std::array::from_fn(triangle);
-        let corner = |c: usize| v3(&|j| tris[j].map_or(Vec3::ZERO, |t| t.0[c]));
+        let mut c = Columns([[0.0; 8]; Columns::COUNT]);
+        let (mut two_sided, mut light_two_sided, mut tris) = ([false; 8], [false; 8], [false; 8]);
+        for j in 0..8 {
+            let (d, it) = (lane(j), it(j));
+            c.put(Columns::P, j, it.surface.p);
+            c.put(Columns::NG, j, it.surface.ng);
+            c.put(Columns::NS, j, it.surface.ns);
+            c.put(Columns::DPDU, j, it.surface.dpdu);
+            c.put(Columns::WO, j, it.wo);
+            c.put(Columns::REFLECTANCE, j, rgb(d.reflectance));
+            c.put(Columns::BETA, j, rgb(paths[live[d.k]].beta));
+            c.0[Columns::U_LIGHT][j] = d.u_light.x;
+            c.0[Columns::U_LIGHT + 1][j] = d.u_light.y;
+            c.0[Columns::U_DIR][j] = d.u_dir.x;
+            c.0[Columns::U_DIR + 1][j] = d.u_dir.y;
+            two_sided[j] = d.two_sided;
+            if let Some((v, normal, centroid, light, p_pick)) = triangle(j) {
+                c.put(Columns::V, j, v[0]);
+                c.put(Columns::V + 3, j, v[1]);
+                c.put(Columns::V + 6, j, v[2]);
+                c.put(Columns::LIGHT_NORMAL, j, normal);
+                c.put(Columns::CENTROID, j, centroid);
+                c.put(Columns::RADIANCE, j, rgb(light.radiance));
+                c.0[Columns::AREA][j] = light.emitter.area();
+                c.0[Columns::P_PICK][j] = p_pick;
+                light_two_sided[j] = light.two_sided;
+                tris[j] = true;
+            }
+        }
         let hit = DiffuseHit {
-            p: v3(&|j| it(j).surface.p),
-            ng: v3(&|j| it(j).surface.ng),
-            ns: v3(&|j| it(j).surface.ns),
-            dpdu: v3(&|j| it(j).surface.dpdu),
-            wo: v3(&|j| it(j).wo),
-            reflectance: v3(&|j| rgb(lane(j).reflectance)),
-            two_sided: F8::mask(std::array::from_fn(|j| lane(j).two_sided)),
-            beta: v3(&|j| rgb(paths[live[lane(j).k]].beta)),
+            p: c.v3(Columns::P),
+            ng: c.v3(Columns::NG),
+            ns: c.v3(Columns::NS),
+            dpdu: c.v3(Columns::DPDU),
+            wo: c.v3(Columns::WO),
+            reflectance: c.v3(Columns::REFLECTANCE),
+            two_sided: F8::mask(two_sided),
+            beta: c.v3(Columns::BETA),
         };
         let light = TriangleLight {
-            v: [corner(0), corner(1), corner(2)],
-            normal: v3(&|j| tris[j].map_or(Vec3::ZERO, |t| t.1)),
-            centroid: v3(&|j| tris[j].map_or(Vec3::ZERO, |t| t.2)),
-            area: f8(&|j| tris[j].map_or(0.0, |t| t.3.emitter.area())),
-            radiance: v3(&|j| tris[j].map_or(Vec3::ZERO, |t| rgb(t.3.radiance))),
-            two_sided: F8::mask(std::array::from_fn(|j| tris[j].is_some_and(|t| t.3.two_sided))),
-            p_pick: f8(&|j| tris[j].map_or(0.0, |t| t.4)),
+            v: [c.v3(Columns::V), c.v3(Columns::V + 3), c.v3(Columns::V + 6)],
+            normal: c.v3(Columns::LIGHT_NORMAL),
+            centroid: c.v3(Columns::CENTROID),
+            area: c.f8(Columns::AREA),
+            radiance: c.v3(Columns::RADIANCE),
+            two_sided: F8::mask(light_two_sided),
+            p_pick: c.f8(Columns::P_PICK),
         };
-        let u_light = (f8(&|j| lane(j).u_light.x), f8(&|j| lane(j).u_light.y));
-        let u_dir = (f8(&|j| lane(j).u_dir.x), f8(&|j| lane(j).u_dir.y));
+        let u_light = (c.f8(Columns::U_LIGHT), c.f8(Columns::U_LIGHT + 1));
+        let u_dir = (c.f8(Columns::U_DIR), c.f8(Columns::U_DIR + 1));
         let (lo, co) = diffuse_lanes::bounce(&hit, &light, u_light, u_dir);
 
         let (by_area, lit) = (F8::mask_bits(lo.by_area), F8::mask_bits(lo.ok));
@@ -444,7 +510,7 @@ impl PathTracer {
         for (j, d) in group.iter().enumerate() {
             let i = live[d.k];
             if let Some((index, p_pick)) = d.light {
-                if tris[j].is_some() && by_area >> j & 1 != 0 {
+                if tris[j] && by_area >> j & 1 != 0 {
                     if lit >> j & 1 != 0 {
                         let v = l_value[j];
                         let ray = (
