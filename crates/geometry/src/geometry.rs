@@ -31,6 +31,10 @@ pub struct Geometry {
     pooled: Arc<TriangleMesh>,
     /// The first pooled triangle of each mesh.
     pooled_starts: Vec<u32>,
+    /// The mesh of each pooled triangle, when there is more than one mesh: a lookup per
+    /// hit instead of a binary search over `pooled_starts`, whose unpredictable branches
+    /// cost more than the 4 bytes per triangle.
+    pooled_mesh: Vec<u32>,
 }
 
 /// Collects shapes, meshes and instances, numbering them as scene objects in order.
@@ -84,6 +88,14 @@ impl GeometryBuilder {
             pooled.positions.extend_from_slice(&mesh.positions);
             pooled.indices.extend(mesh.indices.iter().map(|t| t.map(|i| i + base)));
         }
+        if g.meshes.len() > 1 {
+            g.pooled_mesh = g
+                .meshes
+                .iter()
+                .enumerate()
+                .flat_map(|(k, (mesh, _))| std::iter::repeat_n(k as u32, mesh.indices.len()))
+                .collect();
+        }
         g.pooled = Arc::new(pooled);
         g
     }
@@ -134,7 +146,7 @@ impl Geometry {
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfaceHit {
         let Some(&prim) = self.prims.get(hit.prim as usize) else {
             let pooled = hit.prim - self.prims.len() as u32;
-            let mesh = self.pooled_starts.partition_point(|&start| start <= pooled) - 1;
+            let mesh = self.pooled_mesh.get(pooled as usize).map_or(0, |&m| m as usize);
             let tri = pooled - self.pooled_starts[mesh];
             let (mesh, object) = &self.meshes[mesh];
             let (p, ng, ns, uv, dpdu) = triangle_surface(mesh, tri, hit.uv);
@@ -216,11 +228,12 @@ impl PrimitiveSet for Geometry {
         }
     }
 
-    /// The primitive table, the analytic shapes and the instances (instanced meshes are
-    /// not counted).
+    /// The primitive table, the analytic shapes, the instances (instanced meshes are
+    /// not counted) and the pooled triangles' mesh numbers.
     fn memory_bytes(&self) -> usize {
         use std::mem::size_of;
-        self.prims.capacity() * size_of::<Prim>()
+        self.pooled_mesh.capacity() * size_of::<u32>()
+            + self.prims.capacity() * size_of::<Prim>()
             + self.shapes.capacity() * size_of::<(Shape, u32)>()
             + self.instances.capacity() * size_of::<(Instance, u32)>()
     }
@@ -294,6 +307,38 @@ mod tests {
     use crate::{AccelKind, MeshAccel};
     use glam::Vec3;
     use penumbra_core::Transform;
+
+    /// Hits on pooled triangles name the mesh (object) and the triangle within it, for
+    /// meshes of different sizes side by side, and for a single mesh.
+    #[test]
+    fn pooled_hits_name_their_mesh_and_triangle() {
+        let strip = |n: usize, x: f32| TriangleMesh {
+            positions: (0..n)
+                .flat_map(|k| {
+                    let z = -(k as f32);
+                    [Vec3::new(x, 0.0, z), Vec3::new(x + 0.9, 0.0, z), Vec3::new(x, 0.9, z)]
+                })
+                .collect(),
+            indices: (0..n as u32).map(|k| [3 * k, 3 * k + 1, 3 * k + 2]).collect(),
+            ..Default::default()
+        };
+        for sizes in [&[3usize, 1, 5][..], &[4]] {
+            let mut b = GeometryBuilder::new();
+            for (m, &n) in sizes.iter().enumerate() {
+                b.add_mesh(strip(n, 2.0 * m as f32));
+            }
+            let g = Arc::new(b.build());
+            let accel = g.accel(AccelKind::Bvh);
+            for (m, &n) in sizes.iter().enumerate() {
+                for k in 0..n {
+                    let ray = Ray::new(Vec3::new(2.0 * m as f32 + 0.2, 0.2, 0.5 - k as f32), Vec3::NEG_Z);
+                    let hit = accel.intersect(&ray, 0.9).unwrap();
+                    let s = g.surface(&ray, &hit);
+                    assert_eq!((s.object, s.triangle), (m as u32, k as u32), "mesh {m}, triangle {k}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn mirrored_instances_and_meshes_keep_their_outside() {
