@@ -12,6 +12,7 @@
 mod halton;
 mod independent;
 mod sobol;
+mod sobol_lanes;
 mod stratified;
 
 use crate::hash::hash_words;
@@ -138,6 +139,50 @@ impl PixelSampler {
         }
     }
 
+    /// The next 1D value of each sampler `samplers[lanes[k]]` (no index twice, at most
+    /// eight), lane `k` of the result; lanes past `lanes.len()` repeat the last. Each
+    /// value is what [`PixelSampler::next_1d`] would return; Sobol samplers compute the
+    /// eight together in SIMD lanes.
+    pub fn next_1d_lanes(samplers: &mut [PixelSampler], lanes: &[usize]) -> [f32; 8] {
+        Self::lanes(samplers, lanes, false).0
+    }
+
+    /// [`PixelSampler::next_1d_lanes`] for [`PixelSampler::next_2d`]: the x and the y of
+    /// each lane's point.
+    pub fn next_2d_lanes(samplers: &mut [PixelSampler], lanes: &[usize]) -> ([f32; 8], [f32; 8]) {
+        Self::lanes(samplers, lanes, true)
+    }
+
+    fn lanes(samplers: &mut [PixelSampler], lanes: &[usize], two: bool) -> ([f32; 8], [f32; 8]) {
+        let n = lanes.len();
+        assert!((1..=8).contains(&n), "{n} lanes");
+        if samplers[lanes[0]].kind == SamplerKind::Sobol {
+            let mut pattern = [0; 8];
+            let mut index_reversed = [0; 8];
+            for (k, &i) in lanes.iter().enumerate() {
+                let key = samplers[i].next_key();
+                (pattern[k], index_reversed[k]) = (key.pattern, key.index_reversed);
+            }
+            for k in n..8 {
+                (pattern[k], index_reversed[k]) = (pattern[n - 1], index_reversed[n - 1]);
+            }
+            return sobol_lanes::sample_lanes(&pattern, &index_reversed, two);
+        }
+        let mut out = ([0.0; 8], [0.0; 8]);
+        for (k, &i) in lanes.iter().enumerate() {
+            if two {
+                let p = samplers[i].next_2d();
+                (out.0[k], out.1[k]) = (p.x, p.y);
+            } else {
+                out.0[k] = samplers[i].next_1d();
+            }
+        }
+        for k in n..8 {
+            (out.0[k], out.1[k]) = (out.0[n - 1], out.1[n - 1]);
+        }
+        out
+    }
+
     /// Passes over the next `n` dimensions without computing them: what drawing and
     /// ignoring them would leave (every dimension is a pure function of its number).
     #[inline]
@@ -181,6 +226,40 @@ mod tests {
                 (s.next_1d(), a)
             })
             .collect()
+    }
+
+    /// Drawing for up to eight samplers at once gives each what drawing alone would, in
+    /// every sampler kind, for any lane count, and leaves each at the same dimension.
+    #[test]
+    fn lanes_draw_what_each_sampler_draws_alone() {
+        for kind in SamplerKind::ALL {
+            for n in [1usize, 3, 8] {
+                let start = |s: &mut Vec<PixelSampler>| {
+                    for (k, s) in s.iter_mut().enumerate() {
+                        s.start(UVec2::new(7 * k as u32, 3), 5 + k as u32);
+                        s.skip(k as u32 % 3);
+                    }
+                };
+                let mut together = vec![PixelSampler::new(kind, 9, 64); 10];
+                let mut alone = together.clone();
+                start(&mut together);
+                start(&mut alone);
+                let lanes: Vec<usize> = (0..n).map(|k| 9 - k).collect();
+                for _ in 0..6 {
+                    let one = PixelSampler::next_1d_lanes(&mut together, &lanes);
+                    let two = PixelSampler::next_2d_lanes(&mut together, &lanes);
+                    for (k, &i) in lanes.iter().enumerate() {
+                        assert_eq!(one[k].to_bits(), alone[i].next_1d().to_bits(), "{kind:?} lane {k}");
+                        let p = alone[i].next_2d();
+                        assert_eq!([two.0[k], two.1[k]], [p.x, p.y], "{kind:?} lane {k}");
+                    }
+                    assert_eq!(one[7], one[n - 1], "{kind:?}: padding repeats the last lane");
+                }
+                for i in 0..10 {
+                    assert_eq!(together[i].next_1d(), alone[i].next_1d(), "{kind:?} sampler {i}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -33,7 +33,7 @@ const fn directions() -> [[u32; 32]; 2] {
 /// `b` at byte position `k` of `j`, of the matching direction numbers bit-reversed. So
 /// `reversed_sobol(j, dim)` = reverse(sobol(reverse(j), dim)) in four table lookups, and a
 /// scrambled point costs two bit reversals instead of four.
-static REVERSED: [[[u32; 256]; 4]; 2] = reversed_tables();
+pub(super) static REVERSED: [[[u32; 256]; 4]; 2] = reversed_tables();
 
 const fn reversed_tables() -> [[[u32; 256]; 4]; 2] {
     let mut t = [[[0u32; 256]; 4]; 2];
@@ -63,7 +63,7 @@ const fn reversed_tables() -> [[[u32; 256]; 4]; 2] {
 
 /// reverse(sobol(reverse(j), dim)): Sobol dimension `dim` (0 or 1) in the reversed domain.
 #[inline]
-fn reversed_sobol(j: u32, dim: usize) -> u32 {
+pub(super) fn reversed_sobol(j: u32, dim: usize) -> u32 {
     let t = &REVERSED[dim];
     t[0][(j & 0xff) as usize]
         ^ t[1][(j >> 8 & 0xff) as usize]
@@ -87,7 +87,14 @@ pub(super) fn laine_karras(mut x: u32, seed: u32) -> u32 {
 /// already a 64-bit hash, so its halves serve for the first two.
 #[inline]
 fn seeds(key: &Key) -> [u32; 3] {
-    [key.pattern as u32, (key.pattern >> 32) as u32, key.seed(2) as u32]
+    [key.pattern as u32, (key.pattern >> 32) as u32, second_seed(key.pattern)]
+}
+
+/// The scramble seed of a 2D point's second coordinate, from the key's pattern
+/// ([`Key::seed`]`(2)`).
+#[inline]
+pub(super) fn second_seed(pattern: u64) -> u32 {
+    crate::hash::mix64(pattern ^ 2u64.wrapping_mul(0x9E37_79B9_7F4A_7C15)) as u32
 }
 
 /// The shuffled index in the reversed domain: reverse(nested_uniform_scramble(index)).

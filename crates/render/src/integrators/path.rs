@@ -51,21 +51,13 @@ impl PathTracer {
     }
 }
 
-/// A path at a plain Lambertian surface waiting for the eight-lane bounce, its random
-/// numbers drawn in the order the scalar bounce draws them.
+/// A path at a plain Lambertian surface waiting for the eight-lane bounce.
 #[derive(Clone, Copy)]
 struct DiffuseLane {
     /// Where the path is in this depth's hits.
     k: usize,
     reflectance: Rgb,
     two_sided: bool,
-    /// The light picked, with its probability.
-    light: Option<(u32, f32)>,
-    u_light: Vec2,
-    u_dir: Vec2,
-    /// For Russian roulette, drawn whether or not it is played (a path that does not
-    /// play it ends here, so its later dimensions are never used).
-    u_rr: f32,
 }
 
 /// The colour and sidedness of a material the eight-lane bounce takes: Lambertian with a
@@ -122,9 +114,7 @@ impl Columns {
     const RADIANCE: usize = 36;
     const AREA: usize = 39;
     const P_PICK: usize = 40;
-    const U_LIGHT: usize = 41;
-    const U_DIR: usize = 43;
-    const COUNT: usize = 45;
+    const COUNT: usize = 41;
 
     #[inline(always)]
     fn put(&mut self, column: usize, lane: usize, v: Vec3) {
@@ -232,10 +222,6 @@ impl PathTracer {
             k: 0,
             reflectance: Rgb::BLACK,
             two_sided: false,
-            light: None,
-            u_light: Vec2::ZERO,
-            u_dir: Vec2::ZERO,
-            u_rr: 0.0,
         }; BATCH];
         // The paths still alive, compacted as paths end.
         for (i, l) in live.iter_mut().enumerate() {
@@ -308,29 +294,16 @@ impl PathTracer {
                     path.alive = false;
                     continue;
                 }
-                let sampler = &mut samplers[live[k]];
                 if let Some((reflectance, two_sided)) = plain_diffuse(it.material).filter(|_| self.eight_wide) {
-                    let u_pick = sampler.next_1d();
-                    let u_light = sampler.next_2d();
-                    // The lobe choice: a Lambertian BSDF has one lobe.
-                    sampler.skip(1);
-                    let u_dir = sampler.next_2d();
                     diffuse[nd] = DiffuseLane {
                         k,
                         reflectance,
                         two_sided,
-                        light: scene.lights.pick(selection, u_pick),
-                        u_light,
-                        u_dir,
-                        u_rr: if depth + 1 >= self.options.rr_depth {
-                            sampler.next_1d()
-                        } else {
-                            0.0
-                        },
                     };
                     nd += 1;
                     continue;
                 }
+                let sampler = &mut samplers[live[k]];
                 let sh = Shading::new(it);
                 if sh.bsdf.has_smooth() {
                     let u_pick = sampler.next_1d();
@@ -359,9 +332,9 @@ impl PathTracer {
                     scene,
                     group,
                     (&hits, &live),
-                    &mut paths,
+                    (&mut paths, samplers),
                     &mut shadows,
-                    (depth, &nee),
+                    (depth, &nee, selection),
                     counts,
                 );
             }
@@ -433,17 +406,33 @@ impl PathTracer {
         scene: &Scene,
         group: &[DiffuseLane],
         (hits, live): (&[Option<Interaction>; BATCH], &[usize; BATCH]),
-        paths: &mut [PathState; BATCH],
+        (paths, samplers): (&mut [PathState; BATCH], &mut [PixelSampler]),
         shadows: &mut Shadows,
-        (depth, nee): (u32, &LightStrategy),
+        (depth, nee, selection): (u32, &LightStrategy, LightSelection),
         counts: &mut RayCounts,
     ) {
         let n = group.len();
         // Lanes past the group's end repeat its last path; their results are dropped.
         let lane = |j: usize| &group[j.min(n - 1)];
         let it = |j: usize| hits[lane(j).k].as_ref().expect("a diffuse lane has a hit");
+        // The random numbers, in the scalar bounce's order: the light's pick and point,
+        // the lobe choice (a Lambertian BSDF has one lobe: passed over), the direction,
+        // and for Russian roulette one drawn whether or not it is played (a path that
+        // does not play it ends here, so its later dimensions are never used).
+        let idx: [usize; 8] = std::array::from_fn(|j| live[lane(j).k]);
+        let idx = &idx[..n];
+        let u_pick = PixelSampler::next_1d_lanes(samplers, idx);
+        let u_light = PixelSampler::next_2d_lanes(samplers, idx);
+        idx.iter().for_each(|&i| samplers[i].skip(1));
+        let u_dir = PixelSampler::next_2d_lanes(samplers, idx);
+        let u_rr = if depth + 1 >= self.options.rr_depth {
+            PixelSampler::next_1d_lanes(samplers, idx)
+        } else {
+            [0.0; 8]
+        };
+        let picks: [_; 8] = std::array::from_fn(|j| scene.lights.pick(selection, u_pick[j]));
         let triangle = |j: usize| {
-            let (index, p_pick) = lane(j).light?;
+            let (index, p_pick) = picks[j]?;
             let Light::Area(light) = &scene.lights.lights()[index as usize] else {
                 return None;
             };
@@ -462,10 +451,6 @@ impl PathTracer {
             c.put(Columns::WO, j, it.wo);
             c.put(Columns::REFLECTANCE, j, rgb(d.reflectance));
             c.put(Columns::BETA, j, rgb(paths[live[d.k]].beta));
-            c.0[Columns::U_LIGHT][j] = d.u_light.x;
-            c.0[Columns::U_LIGHT + 1][j] = d.u_light.y;
-            c.0[Columns::U_DIR][j] = d.u_dir.x;
-            c.0[Columns::U_DIR + 1][j] = d.u_dir.y;
             two_sided[j] = d.two_sided;
             if let Some((v, normal, centroid, light, p_pick)) = triangle(j) {
                 c.put(Columns::V, j, v[0]);
@@ -499,9 +484,12 @@ impl PathTracer {
             two_sided: F8::mask(light_two_sided),
             p_pick: c.f8(Columns::P_PICK),
         };
-        let u_light = (c.f8(Columns::U_LIGHT), c.f8(Columns::U_LIGHT + 1));
-        let u_dir = (c.f8(Columns::U_DIR), c.f8(Columns::U_DIR + 1));
-        let (lo, co) = diffuse_lanes::bounce(&hit, &light, u_light, u_dir);
+        let (lo, co) = diffuse_lanes::bounce(
+            &hit,
+            &light,
+            (F8::from(u_light.0), F8::from(u_light.1)),
+            (F8::from(u_dir.0), F8::from(u_dir.1)),
+        );
 
         let (by_area, lit) = (F8::mask_bits(lo.by_area), F8::mask_bits(lo.ok));
         let (l_origin, l_dir, l_value) = (lo.origin.to_lanes(), lo.dir.to_lanes(), lo.value.to_lanes());
@@ -509,7 +497,7 @@ impl PathTracer {
         let (c_origin, c_dir, c_beta) = (co.origin.to_lanes(), co.dir.to_lanes(), co.beta.to_lanes());
         for (j, d) in group.iter().enumerate() {
             let i = live[d.k];
-            if let Some((index, p_pick)) = d.light {
+            if let Some((index, p_pick)) = picks[j] {
                 if tris[j] && by_area >> j & 1 != 0 {
                     if lit >> j & 1 != 0 {
                         let v = l_value[j];
@@ -521,7 +509,9 @@ impl PathTracer {
                     }
                 } else {
                     let sh = Shading::new(it(j));
-                    if let Some(test) = nee::light_sample(scene, &sh, index, p_pick, d.u_light, nee) {
+                    if let Some(test) =
+                        nee::light_sample(scene, &sh, index, p_pick, Vec2::new(u_light.0[j], u_light.1[j]), nee)
+                    {
                         shadows.push((test.ray, test.t_max), (i, paths[i].beta * test.value));
                     }
                 }
@@ -533,7 +523,7 @@ impl PathTracer {
                 counts.secondary += 1;
                 path.ray = Ray::new(c_origin[j], c_dir[j]);
                 path.previous = Some((c_origin[j], c_pdf[j]));
-                self.roulette(path, depth, || d.u_rr)
+                self.roulette(path, depth, || u_rr[j])
             };
         }
     }
