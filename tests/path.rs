@@ -400,7 +400,8 @@ fn a_disk_reflects_the_half_of_the_environment_map_above_it() {
 /// one-path-at-a-time code gives it: the same films, bit for bit, with the lanes on and
 /// off. The scenes reach every branch: triangle lights sampled by area and (close up) by
 /// solid angle in the scalar code, quad and sphere lights (scalar light samples beside
-/// lane continuations), one- and two-sided diffuse seen from both sides, glossy and glass
+/// lane continuations), one- and two-sided diffuse seen from both sides, meshes with and
+/// without vertex normals and UVs (normals against the winding too), glossy and glass
 /// neighbours (paths leaving the lanes and coming back), Russian roulette from depth 1.
 #[test]
 fn diffuse_lanes_equal_the_scalar_bounce() {
@@ -414,6 +415,9 @@ fn diffuse_lanes_equal_the_scalar_bounce() {
         [[shape]]\ntype = \"quad\"\ncorner = [-3, 0, 3]\nedge1 = [6, 0, 0]\nedge2 = [0, 0, -6]\nmaterial = \"front\"\n\
         [[shape]]\ntype = \"quad\"\ncorner = [-3, 0, -1]\nedge1 = [0, 3, 0]\nedge2 = [6, 0, 0]\nmaterial = \"front\"\n\
         [[shape]]\ntype = \"mesh\"\nmaterial = \"both\"\npositions = [[-1, 0, 0], [0, 1.5, 0.5], [1, 0, 0]]\nindices = [[0, 1, 2]]\n\
+        normals = [[0, 0.3, 1], [0.5, 0, 1], [-0.4, -0.2, 1]]\nuvs = [[0, 0], [0.5, 1], [1, 0.2]]\n\
+        [[shape]]\ntype = \"mesh\"\nmaterial = \"front\"\npositions = [[1.6, 0, -0.5], [2.4, 0, -0.5], [2, 1.2, -0.2]]\nindices = [[0, 1, 2]]\n\
+        normals = [[0, 0, -1], [0.2, 0, -1], [0, 0.3, -1]]\n\
         [[shape]]\ntype = \"sphere\"\ncenter = [1.2, 0.5, 1]\nradius = 0.4\nmaterial = \"glass\"\n\
         [[shape]]\ntype = \"mesh\"\nmaterial = \"both\"\npositions = [[-0.4, 2, -0.9], [0.4, 2, -0.9], [0, 2, -0.3]]\nindices = [[0, 1, 2]]\nemission = [8, 8, 8]\ntwo_sided = true\n\
         [[shape]]\ntype = \"sphere\"\ncenter = [-1.5, 1.5, 0.5]\nradius = 0.2\nmaterial = \"both\"\nemission = [5, 4, 3]\n";

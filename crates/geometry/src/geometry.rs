@@ -142,13 +142,19 @@ impl Geometry {
         flat + instanced
     }
 
+    /// For a hit on a world-space mesh's triangle: the mesh, the triangle within it and
+    /// the mesh's object number.
+    pub fn pooled_hit(&self, hit: &Hit) -> Option<(&TriangleMesh, u32, u32)> {
+        let pooled = hit.prim.checked_sub(self.prims.len() as u32)?;
+        let mesh = self.pooled_mesh.get(pooled as usize).map_or(0, |&m| m as usize);
+        let (m, object) = &self.meshes[mesh];
+        Some((m, pooled - self.pooled_starts[mesh], *object))
+    }
+
     /// The full surface description at `hit`, which `ray` produced.
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfaceHit {
         let Some(&prim) = self.prims.get(hit.prim as usize) else {
-            let pooled = hit.prim - self.prims.len() as u32;
-            let mesh = self.pooled_mesh.get(pooled as usize).map_or(0, |&m| m as usize);
-            let tri = pooled - self.pooled_starts[mesh];
-            let (mesh, object) = &self.meshes[mesh];
+            let (mesh, tri, object) = self.pooled_hit(hit).expect("a hit on a pooled triangle");
             let (p, ng, ns, uv, dpdu) = triangle_surface(mesh, tri, hit.uv);
             return SurfaceHit {
                 p,
@@ -156,7 +162,7 @@ impl Geometry {
                 ns,
                 uv,
                 dpdu,
-                object: *object,
+                object,
                 triangle: tri,
             };
         };

@@ -12,6 +12,7 @@ pub mod instance;
 mod mesh;
 mod placement;
 pub mod shapes;
+pub mod triangle_lanes;
 
 pub use accel::{build_accel, Accel, AccelKind, PrimitiveSet, TraversalStats};
 pub use geometry::{Geometry, GeometryBuilder};

@@ -5,7 +5,7 @@ use crate::lights::{AreaLight, Environment, Light, LightSet};
 use crate::{Camera, Filter, Material};
 use glam::Vec3;
 use penumbra_core::{Ray, Rgb};
-use penumbra_geometry::{Accel, Geometry, SurfaceHit};
+use penumbra_geometry::{Accel, Geometry, Hit, SurfaceHit};
 use std::sync::Arc;
 
 pub struct Scene {
@@ -40,13 +40,22 @@ impl Scene {
     /// The closest surface along `ray` in `(0, t_max)`.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Interaction<'_>> {
         let hit = self.accel.intersect(ray, t_max)?;
-        let surface = self.geometry.surface(ray, &hit);
-        let material = &self.materials[self.object_materials[surface.object as usize] as usize];
-        Some(Interaction {
+        Some(self.interaction(ray, &hit))
+    }
+
+    /// The surface at `hit`, which `ray` produced, with its material.
+    pub fn interaction(&self, ray: &Ray, hit: &Hit) -> Interaction<'_> {
+        let surface = self.geometry.surface(ray, hit);
+        Interaction {
+            material: self.material_of(surface.object),
             surface,
-            material,
             wo: -ray.dir.normalize(),
-        })
+        }
+    }
+
+    /// The material of scene object `object`.
+    pub fn material_of(&self, object: u32) -> &Material {
+        &self.materials[self.object_materials[object as usize] as usize]
     }
 
     /// [`Scene::intersect`] for each of `rays` (without a distance limit), into `hits`.

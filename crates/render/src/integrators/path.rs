@@ -28,6 +28,8 @@ use crate::{Interaction, Material, Scene, Texture};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{F8, V3};
 use penumbra_core::{PixelSampler, Ray, Rgb};
+use penumbra_geometry::triangle_lanes::{triangle_surface_lanes, SurfaceLanes, TriangleLanes};
+use penumbra_geometry::{Hit, SurfaceHit, TriangleMesh};
 
 /// The default depth (path segments) from which Russian roulette may end paths, Mitsuba's.
 pub const RR_DEPTH: u32 = 5;
@@ -51,13 +53,39 @@ impl PathTracer {
     }
 }
 
-/// A path at a plain Lambertian surface waiting for the eight-lane bounce.
+/// A path at a plain Lambertian, non-emitting triangle of a world-space mesh, waiting for
+/// the eight-lane bounce (the surface itself is worked out there, in lanes).
 #[derive(Clone, Copy)]
-struct DiffuseLane {
-    /// Where the path is in this depth's hits.
+struct DiffuseLane<'s> {
+    /// Where the path is in this depth's rays.
     k: usize,
     reflectance: Rgb,
     two_sided: bool,
+    mesh: &'s TriangleMesh,
+    triangle: u32,
+    object: u32,
+    material: &'s Material,
+    /// The hit's barycentric coordinates.
+    b: Vec2,
+}
+
+/// The scalar [`Interaction`] of lane `j`'s surface (for the light samples the lanes do
+/// not take): the same floats `Scene::interaction` gives.
+fn lane_interaction<'s>(d: &DiffuseLane<'s>, j: usize, s: &SurfaceLanes<F8>, wo: V3<F8>) -> Interaction<'s> {
+    let at = |v: V3<F8>| v.to_lanes()[j];
+    Interaction {
+        surface: SurfaceHit {
+            p: at(s.p),
+            ng: at(s.ng),
+            ns: at(s.ns),
+            uv: Vec2::new(s.uv.0.to_array()[j], s.uv.1.to_array()[j]),
+            dpdu: at(s.dpdu),
+            object: d.object,
+            triangle: d.triangle,
+        },
+        material: d.material,
+        wo: at(wo),
+    }
 }
 
 /// The colour and sidedness of a material the eight-lane bounce takes: Lambertian with a
@@ -100,21 +128,23 @@ struct PathState {
 struct Columns([[f32; 8]; Columns::COUNT]);
 
 impl Columns {
+    /// The hit triangle's corners (nine columns), vertex normals (nine) and UVs (six).
     const P: usize = 0;
-    const NG: usize = 3;
-    const NS: usize = 6;
-    const DPDU: usize = 9;
-    const WO: usize = 12;
-    const REFLECTANCE: usize = 15;
-    const BETA: usize = 18;
+    const N: usize = 9;
+    const UV: usize = 18;
+    /// The hit's barycentrics, and the ray direction.
+    const B: usize = 24;
+    const DIR: usize = 26;
+    const REFLECTANCE: usize = 29;
+    const BETA: usize = 32;
     /// The light triangle's corners, nine columns.
-    const V: usize = 21;
-    const LIGHT_NORMAL: usize = 30;
-    const CENTROID: usize = 33;
-    const RADIANCE: usize = 36;
-    const AREA: usize = 39;
-    const P_PICK: usize = 40;
-    const COUNT: usize = 41;
+    const V: usize = 35;
+    const LIGHT_NORMAL: usize = 44;
+    const CENTROID: usize = 47;
+    const RADIANCE: usize = 50;
+    const AREA: usize = 53;
+    const P_PICK: usize = 54;
+    const COUNT: usize = 55;
 
     #[inline(always)]
     fn put(&mut self, column: usize, lane: usize, v: Vec3) {
@@ -218,11 +248,8 @@ impl PathTracer {
         let mut shadow_rays = [(no_ray, 0.0f32); BATCH];
         let mut shadow_light = [(0usize, Rgb::BLACK); BATCH];
         let mut blocked = [false; BATCH];
-        let mut diffuse = [DiffuseLane {
-            k: 0,
-            reflectance: Rgb::BLACK,
-            two_sided: false,
-        }; BATCH];
+        let mut diffuse: [Option<DiffuseLane>; BATCH] = [None; BATCH];
+        let mut group = Vec::with_capacity(BATCH);
         // The paths still alive, compacted as paths end.
         for (i, l) in live.iter_mut().enumerate() {
             *l = i;
@@ -243,15 +270,34 @@ impl PathTracer {
             if count == 0 {
                 break;
             }
-            scene.intersect_batch(&rays[..count], &mut hits[..count]);
+            // The surfaces met; plain Lambertian triangles are set aside for the lanes.
+            for k in 0..count {
+                (hits[k], diffuse[k]) = (None, None);
+                let Some(hit) = scene.accel.intersect(&rays[k], f32::INFINITY) else {
+                    continue;
+                };
+                diffuse[k] = self.diffuse_lane(scene, k, &hit);
+                if diffuse[k].is_none() {
+                    hits[k] = Some(scene.interaction(&rays[k], &hit));
+                }
+            }
 
             // Emission met, a light sample (its shadow ray kept for later) and the
             // continuation at each surface; plain Lambertian surfaces after the others,
             // eight at a time.
             let mut m = 0;
-            let mut nd = 0;
+            group.clear();
             for k in 0..count {
                 let path = &mut paths[live[k]];
+                if let Some(d) = diffuse[k] {
+                    // Not an emitter: nothing to add before the bounce.
+                    if depth + 1 >= self.options.max_depth {
+                        path.alive = false;
+                    } else {
+                        group.push(d);
+                    }
+                    continue;
+                }
                 let Some(it) = &hits[k] else {
                     // The environment, weighted against its light sampling as an emitter is.
                     path.radiance += path.beta
@@ -294,15 +340,6 @@ impl PathTracer {
                     path.alive = false;
                     continue;
                 }
-                if let Some((reflectance, two_sided)) = plain_diffuse(it.material).filter(|_| self.eight_wide) {
-                    diffuse[nd] = DiffuseLane {
-                        k,
-                        reflectance,
-                        two_sided,
-                    };
-                    nd += 1;
-                    continue;
-                }
                 let sampler = &mut samplers[live[k]];
                 let sh = Shading::new(it);
                 if sh.bsdf.has_smooth() {
@@ -327,11 +364,11 @@ impl PathTracer {
                 light: &mut shadow_light,
                 len: m,
             };
-            for group in diffuse[..nd].chunks(8) {
+            for group in group.chunks(8) {
                 self.diffuse_bounces(
                     scene,
                     group,
-                    (&hits, &live),
+                    (&rays, &live),
                     (&mut paths, samplers),
                     &mut shadows,
                     (depth, &nee, selection),
@@ -381,6 +418,30 @@ impl PathTracer {
         self.roulette(path, depth, || sampler.next_1d())
     }
 
+    /// `hit` as a lane of the eight-wide bounce, if it is one: a plain Lambertian,
+    /// non-emitting triangle of a world-space mesh.
+    fn diffuse_lane<'s>(&self, scene: &'s Scene, k: usize, hit: &Hit) -> Option<DiffuseLane<'s>> {
+        if !self.eight_wide {
+            return None;
+        }
+        let (mesh, triangle, object) = scene.geometry.pooled_hit(hit)?;
+        let material = scene.material_of(object);
+        let (reflectance, two_sided) = plain_diffuse(material)?;
+        if scene.lights.emitter_of(object, triangle).is_some() {
+            return None;
+        }
+        Some(DiffuseLane {
+            k,
+            reflectance,
+            two_sided,
+            mesh,
+            triangle,
+            object,
+            material,
+            b: hit.uv,
+        })
+    }
+
     /// Russian roulette from `rr_depth` on, with `u()` the path's next random number;
     /// whether the path survives. Survival by the throughput with refraction's 1/η²
     /// undone (as Mitsuba and pbrt-v4), so that paths inside glass are not cut for their
@@ -405,7 +466,7 @@ impl PathTracer {
         &self,
         scene: &Scene,
         group: &[DiffuseLane],
-        (hits, live): (&[Option<Interaction>; BATCH], &[usize; BATCH]),
+        (rays, live): (&[Ray; BATCH], &[usize; BATCH]),
         (paths, samplers): (&mut [PathState; BATCH], &mut [PixelSampler]),
         shadows: &mut Shadows,
         (depth, nee, selection): (u32, &LightStrategy, LightSelection),
@@ -414,7 +475,6 @@ impl PathTracer {
         let n = group.len();
         // Lanes past the group's end repeat its last path; their results are dropped.
         let lane = |j: usize| &group[j.min(n - 1)];
-        let it = |j: usize| hits[lane(j).k].as_ref().expect("a diffuse lane has a hit");
         // The random numbers, in the scalar bounce's order: the light's pick and point,
         // the lobe choice (a Lambertian BSDF has one lobe: passed over), the direction,
         // and for Russian roulette one drawn whether or not it is played (a path that
@@ -442,13 +502,29 @@ impl PathTracer {
         let rgb = |c: Rgb| Vec3::new(c.r, c.g, c.b);
         let mut c = Columns([[0.0; 8]; Columns::COUNT]);
         let (mut two_sided, mut light_two_sided, mut tris) = ([false; 8], [false; 8], [false; 8]);
+        let (mut has_normals, mut has_uvs) = ([false; 8], [false; 8]);
         for j in 0..8 {
-            let (d, it) = (lane(j), it(j));
-            c.put(Columns::P, j, it.surface.p);
-            c.put(Columns::NG, j, it.surface.ng);
-            c.put(Columns::NS, j, it.surface.ns);
-            c.put(Columns::DPDU, j, it.surface.dpdu);
-            c.put(Columns::WO, j, it.wo);
+            let d = lane(j);
+            let idx = d.mesh.indices[d.triangle as usize].map(|i| i as usize);
+            for (v, &i) in idx.iter().enumerate() {
+                c.put(Columns::P + 3 * v, j, d.mesh.positions[i]);
+            }
+            if let Some(normals) = &d.mesh.normals {
+                for (v, &i) in idx.iter().enumerate() {
+                    c.put(Columns::N + 3 * v, j, normals[i]);
+                }
+                has_normals[j] = true;
+            }
+            if let Some(uvs) = &d.mesh.uvs {
+                for (v, &i) in idx.iter().enumerate() {
+                    c.0[Columns::UV + 2 * v][j] = uvs[i].x;
+                    c.0[Columns::UV + 2 * v + 1][j] = uvs[i].y;
+                }
+                has_uvs[j] = true;
+            }
+            c.0[Columns::B][j] = d.b.x;
+            c.0[Columns::B + 1][j] = d.b.y;
+            c.put(Columns::DIR, j, rays[d.k].dir);
             c.put(Columns::REFLECTANCE, j, rgb(d.reflectance));
             c.put(Columns::BETA, j, rgb(paths[live[d.k]].beta));
             two_sided[j] = d.two_sided;
@@ -465,12 +541,24 @@ impl PathTracer {
                 tris[j] = true;
             }
         }
+        let uv = |v: usize| (c.f8(Columns::UV + 2 * v), c.f8(Columns::UV + 2 * v + 1));
+        let surface = triangle_surface_lanes(&TriangleLanes {
+            p: [0, 1, 2].map(|v| c.v3(Columns::P + 3 * v)),
+            n: [0, 1, 2].map(|v| c.v3(Columns::N + 3 * v)),
+            has_normals: F8::mask(has_normals),
+            t: [uv(0), uv(1), uv(2)],
+            has_uvs: F8::mask(has_uvs),
+            b: (c.f8(Columns::B), c.f8(Columns::B + 1)),
+        });
+        // `Scene::interaction`'s -dir.normalize().
+        let dir = c.v3(Columns::DIR);
+        let wo = -dir.try_normalize().0;
         let hit = DiffuseHit {
-            p: c.v3(Columns::P),
-            ng: c.v3(Columns::NG),
-            ns: c.v3(Columns::NS),
-            dpdu: c.v3(Columns::DPDU),
-            wo: c.v3(Columns::WO),
+            p: surface.p,
+            ng: surface.ng,
+            ns: surface.ns,
+            dpdu: surface.dpdu,
+            wo,
             reflectance: c.v3(Columns::REFLECTANCE),
             two_sided: F8::mask(two_sided),
             beta: c.v3(Columns::BETA),
@@ -508,7 +596,8 @@ impl PathTracer {
                         shadows.push(ray, (i, Rgb::new(v.x, v.y, v.z)));
                     }
                 } else {
-                    let sh = Shading::new(it(j));
+                    let it = lane_interaction(d, j, &surface, wo);
+                    let sh = Shading::new(&it);
                     if let Some(test) =
                         nee::light_sample(scene, &sh, index, p_pick, Vec2::new(u_light.0[j], u_light.1[j]), nee)
                     {
