@@ -1,6 +1,6 @@
 //! The surface at triangle hits for lanes of any [`Real`] type: the interpolated point,
 //! the geometric normal, the shading normal from vertex normals, texture coordinates and
-//! ∂p/∂u, as [`crate::instance::triangle_surface`] computes them for one hit, with the
+//! ∂p/∂u, as `instance::triangle_surface` computes them for one hit, with the
 //! same IEEE operations in the same order (its branches on the mesh's optional normals and
 //! UVs become per-lane masks), so each lane is bit for bit the scalar result.
 

@@ -40,7 +40,7 @@ pub const BATCH: usize = 16;
 pub struct PathTracer {
     pub options: IntegratorOptions,
     /// Bounces at plain Lambertian surfaces taken eight paths at a time
-    /// ([`diffuse_lanes`]); the same image either way, `false` only to show that.
+    /// (`integrators/diffuse_lanes.rs`); the same image either way, `false` only to show that.
     pub eight_wide: bool,
 }
 
