@@ -35,7 +35,7 @@ use penumbra_geometry::{Hit, SurfaceHit, TriangleMesh};
 pub const RR_DEPTH: u32 = 5;
 
 /// The most paths traced in lockstep.
-pub const BATCH: usize = 16;
+pub const BATCH: usize = 256;
 
 pub struct PathTracer {
     pub options: IntegratorOptions,
@@ -165,13 +165,13 @@ impl Columns {
 }
 
 /// The shadow rays of a depth, the path and light each brings if unblocked.
-struct Shadows<'a> {
-    rays: &'a mut [(Ray, f32); BATCH],
-    light: &'a mut [(usize, Rgb); BATCH],
+struct Shadows<'a, const N: usize> {
+    rays: &'a mut [(Ray, f32); N],
+    light: &'a mut [(usize, Rgb); N],
     len: usize,
 }
 
-impl Shadows<'_> {
+impl<const N: usize> Shadows<'_, N> {
     fn push(&mut self, ray: (Ray, f32), light: (usize, Rgb)) {
         self.rays[self.len] = ray;
         self.light[self.len] = light;
@@ -182,13 +182,12 @@ impl Shadows<'_> {
 impl Integrator for PathTracer {
     fn li(&self, scene: &Scene, camera_ray: &Ray, sampler: &mut PixelSampler, counts: &mut RayCounts) -> Rgb {
         let mut out = [Rgb::BLACK];
-        self.li_batch(
-            scene,
-            std::slice::from_ref(camera_ray),
-            std::slice::from_mut(sampler),
-            &mut out,
-            counts,
-        );
+        let batch = Batch {
+            rays: std::slice::from_ref(camera_ray),
+            samplers: std::slice::from_mut(sampler),
+            out: &mut out,
+        };
+        self.trace_batch::<1>(scene, batch, counts);
         out[0]
     }
 
@@ -205,14 +204,15 @@ impl Integrator for PathTracer {
             .zip(samplers.chunks_mut(BATCH))
             .zip(out.chunks_mut(BATCH))
         {
-            self.trace_batch(scene, Batch { rays, samplers, out }, counts);
+            self.trace_batch::<BATCH>(scene, Batch { rays, samplers, out }, counts);
         }
     }
 }
 
 impl PathTracer {
-    /// Traces up to [`BATCH`] paths in lockstep.
-    fn trace_batch(&self, scene: &Scene, batch: Batch, counts: &mut RayCounts) {
+    /// Traces up to `N` paths in lockstep (a batch of one for [`Integrator::li`]: no
+    /// room set up for the lanes it does not use).
+    fn trace_batch<const N: usize>(&self, scene: &Scene, batch: Batch, counts: &mut RayCounts) {
         let Batch {
             rays: camera_rays,
             samplers,
@@ -232,7 +232,7 @@ impl PathTracer {
             mis: Some((heuristic, 1.0)),
         };
         let no_ray = Ray::new(Vec3::ZERO, Vec3::Z);
-        let mut paths: [PathState; BATCH] = std::array::from_fn(|i| PathState {
+        let mut paths: [PathState; N] = std::array::from_fn(|i| PathState {
             radiance: Rgb::BLACK,
             beta: Rgb::WHITE,
             ray: camera_rays.get(i).copied().unwrap_or(no_ray),
@@ -240,16 +240,16 @@ impl PathTracer {
             eta_scale: 1.0,
             alive: i < n,
         });
-        let mut rays = [no_ray; BATCH];
-        let mut live = [0usize; BATCH];
-        let mut hits: [Option<Interaction>; BATCH] = [const { None }; BATCH];
+        let mut rays = [no_ray; N];
+        let mut live = [0usize; N];
+        let mut hits: [Option<Interaction>; N] = [const { None }; N];
         // Shadow rays (ray, t_max), the path and light each brings if unblocked, and the
         // answers.
-        let mut shadow_rays = [(no_ray, 0.0f32); BATCH];
-        let mut shadow_light = [(0usize, Rgb::BLACK); BATCH];
-        let mut blocked = [false; BATCH];
-        let mut diffuse: [Option<DiffuseLane>; BATCH] = [None; BATCH];
-        let mut group = Vec::with_capacity(BATCH);
+        let mut shadow_rays = [(no_ray, 0.0f32); N];
+        let mut shadow_light = [(0usize, Rgb::BLACK); N];
+        let mut blocked = [false; N];
+        let mut diffuse: [Option<DiffuseLane>; N] = [None; N];
+        let mut group = Vec::with_capacity(N);
         // The paths still alive, compacted as paths end.
         for (i, l) in live.iter_mut().enumerate() {
             *l = i;
@@ -462,13 +462,13 @@ impl PathTracer {
     /// not take (other kinds of light, triangles near enough to be sampled by solid angle)
     /// by [`nee::light_sample`].
     #[allow(clippy::too_many_arguments)]
-    fn diffuse_bounces(
+    fn diffuse_bounces<const N: usize>(
         &self,
         scene: &Scene,
         group: &[DiffuseLane],
-        (rays, live): (&[Ray; BATCH], &[usize; BATCH]),
-        (paths, samplers): (&mut [PathState; BATCH], &mut [PixelSampler]),
-        shadows: &mut Shadows,
+        (rays, live): (&[Ray; N], &[usize; N]),
+        (paths, samplers): (&mut [PathState; N], &mut [PixelSampler]),
+        shadows: &mut Shadows<N>,
         (depth, nee, selection): (u32, &LightStrategy, LightSelection),
         counts: &mut RayCounts,
     ) {
