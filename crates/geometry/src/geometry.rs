@@ -109,6 +109,8 @@ impl Geometry {
             .then(|| build_accel(kind, Arc::new(MeshTriangles::new(self.pooled.clone()))));
         let objects = (!self.prims.is_empty() || triangles.is_none()).then(|| build_accel(kind, self.clone()));
         match (triangles, objects) {
+            // Only triangles, numbered from 0: their structure answers alone.
+            (Some(triangles), None) if self.prims.is_empty() => triangles,
             (Some(triangles), objects) => Box::new(Split {
                 triangles,
                 objects,
