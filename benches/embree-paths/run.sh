@@ -2,7 +2,10 @@
 # Embree 3 on the rays of Penumbra's path tracer, one by one and in 16-wide packets in
 # wavefront order (docs/performance.md, "Where Mitsuba's time goes"). Needs
 # `../shared/anchors/run.sh setup` (Embree headers, the Python venv; ANCHORS_VENV as there).
-# Measures the committed HEAD (built in a scratch worktree with raydump.patch applied).
+# Built in a scratch worktree at commit 9c8f191 with raydump.patch applied: the patch
+# instruments that commit's path-at-a-time tracer. Every later change to the path tracer
+# kept its images bit-identical (docs/performance.md), so it casts the same rays; the BVH
+# timed at the end (`bench accel` of that build) is also unchanged since.
 # From the repository:
 #   bash benches/embree-paths/run.sh [SPP]
 set -euo pipefail
@@ -12,7 +15,7 @@ WORK=${TMPDIR:-/tmp}/penumbra-embree-paths
 PY=${ANCHORS_VENV:-$HOME/.cache/penumbra-anchors/venv}/bin/python
 rm -rf "$WORK" && mkdir -p "$WORK"
 git -C "$ROOT" worktree prune
-git -C "$ROOT" worktree add -q --detach "$WORK/src" HEAD
+git -C "$ROOT" worktree add -q --detach "$WORK/src" 9c8f191
 trap 'git -C "$ROOT" worktree remove --force "$WORK/src"' EXIT
 git -C "$WORK/src" apply "$ROOT/benches/embree-paths/raydump.patch"
 (cd "$WORK/src" && cargo build --release -q)

@@ -58,13 +58,6 @@ impl Scene {
         &self.materials[self.object_materials[object as usize] as usize]
     }
 
-    /// [`Scene::intersect`] for each of `rays` (without a distance limit), into `hits`.
-    pub fn intersect_batch<'s>(&'s self, rays: &[Ray], hits: &mut [Option<Interaction<'s>>]) {
-        for (ray, hit) in rays.iter().zip(hits) {
-            *hit = self.intersect(ray, f32::INFINITY);
-        }
-    }
-
     /// [`Scene::occluded`] for each `(ray, t_max)` of `rays`, into `blocked`.
     pub fn occluded_batch(&self, rays: &[(Ray, f32)], blocked: &mut [bool]) {
         for ((ray, t_max), b) in rays.iter().zip(blocked) {

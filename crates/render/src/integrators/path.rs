@@ -13,11 +13,12 @@
 //! of them (a wavefront, as in Laine, Karras and Aila, "Megakernels Considered Harmful",
 //! 2013): closest hits for every live path; then at each surface the emission met, a light
 //! sample (its shadow ray kept) and the continuation; then every shadow ray. Each stage is
-//! a loop over the batch, so the rays of a stage go to the accelerator together
-//! ([`Scene::intersect_batch`], [`Scene::occluded_batch`]). Every path draws
-//! its random numbers and adds its terms in the order a path traced alone would, so a
-//! batch gives exactly the radiance of its paths traced one by one ([`PathTracer::li`] is
-//! a batch of one).
+//! a loop over the batch (a whole tile of camera rays, [`BATCH`]), so the rays of a stage
+//! go to the accelerator together ([`Scene::occluded_batch`]); paths at plain Lambertian
+//! triangles are set aside at the hit and take their bounce eight at a time in SIMD lanes
+//! (`diffuse_lanes.rs`). Every path draws its random numbers and adds its terms in the
+//! order a path traced alone would, so a batch gives exactly the radiance of its paths
+//! traced one by one ([`PathTracer::li`] is a batch of one).
 
 use super::diffuse_lanes::{self, DiffuseHit, TriangleLight};
 use super::nee::{self, LightStrategy, Shading};
@@ -34,7 +35,8 @@ use penumbra_geometry::{Hit, SurfaceHit, TriangleMesh};
 /// The default depth (path segments) from which Russian roulette may end paths, Mitsuba's.
 pub const RR_DEPTH: u32 = 5;
 
-/// The most paths traced in lockstep.
+/// The most paths traced in lockstep: a whole tile of the driver (16 x 16 pixels), so
+/// that the eight-lane groups stay full as paths end.
 pub const BATCH: usize = 256;
 
 pub struct PathTracer {
