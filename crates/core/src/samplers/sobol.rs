@@ -33,7 +33,7 @@ const fn directions() -> [[u32; 32]; 2] {
 /// `b` at byte position `k` of `j`, of the matching direction numbers bit-reversed. So
 /// `reversed_sobol(j, dim)` = reverse(sobol(reverse(j), dim)) in four table lookups, and a
 /// scrambled point costs two bit reversals instead of four.
-pub(super) static REVERSED: [[[u32; 256]; 4]; 2] = reversed_tables();
+static REVERSED: [[[u32; 256]; 4]; 2] = reversed_tables();
 
 const fn reversed_tables() -> [[[u32; 256]; 4]; 2] {
     let mut t = [[[0u32; 256]; 4]; 2];

@@ -1,7 +1,8 @@
 //! The Sobol sampler's points for eight pixel samples at once: the Laine–Karras scrambles,
-//! the bit reversals and the dimension-1 table lookups of [`super::sobol`] in AVX2
-//! integer lanes (gathers for the tables, byte shuffles for the reversals), with the same
-//! integer operations, so each lane's point is bit for bit the scalar one. Without AVX2
+//! the bit reversals and the dimension-1 matrix product of [`super::sobol`] in AVX2
+//! integer lanes (byte shuffles for the reversals, a subset-XOR transform instead of the
+//! scalar code's byte tables), with exactly its integer results, so each lane's point is
+//! bit for bit the scalar one. Without AVX2
 //! the lanes are computed one by one by the scalar code.
 
 use super::sobol::{laine_karras, reversed_sobol, second_seed};
@@ -39,7 +40,6 @@ fn scalar(pattern: &[u64; 8], index_reversed: &[u32; 8], two: bool) -> ([f32; 8]
 
 #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
 mod avx2 {
-    use super::super::sobol::REVERSED;
     use super::second_seed;
     use core::arch::x86_64::*;
 
@@ -83,19 +83,25 @@ mod avx2 {
         _mm256_or_si256(_mm256_shuffle_epi8(high, lo), _mm256_shuffle_epi8(low, hi))
     }
 
-    /// [`super::reversed_sobol`] for dimension 1: four gathers from its byte tables.
+    /// [`super::reversed_sobol`] for dimension 1 from `a` = reverse(j): Sobol's second
+    /// dimension is the Pascal matrix mod 2, P[i][k] = 1 where the bits of i are a subset
+    /// of those of k (Lucas), and in the reversed domain its product with a vector is the
+    /// subset-XOR (zeta) transform over the five bits of a bit position: five shift-mask-XOR
+    /// steps, no table.
     #[inline(always)]
-    unsafe fn reversed_sobol_1(j: __m256i) -> __m256i {
-        let byte = _mm256_set1_epi32(0xff);
-        let t = &REVERSED[1];
-        let look = |k: usize, shift: i32| {
-            let index = _mm256_and_si256(_mm256_srlv_epi32(j, _mm256_set1_epi32(shift)), byte);
-            _mm256_i32gather_epi32::<4>(t[k].as_ptr() as *const i32, index)
-        };
-        _mm256_xor_si256(
-            _mm256_xor_si256(look(0, 0), look(1, 8)),
-            _mm256_xor_si256(look(2, 16), look(3, 24)),
-        )
+    unsafe fn reversed_sobol_1(a: __m256i) -> __m256i {
+        let mut y = a;
+        for (shift, mask) in [
+            (1, 0x5555_5555u32),
+            (2, 0x3333_3333),
+            (4, 0x0f0f_0f0f),
+            (8, 0x00ff_00ff),
+            (16, 0x0000_ffff),
+        ] {
+            let moved = _mm256_srlv_epi32(y, _mm256_set1_epi32(shift));
+            y = _mm256_xor_si256(y, _mm256_and_si256(moved, _mm256_set1_epi32(mask as i32)));
+        }
+        y
     }
 
     /// [`crate::hash::u32_to_unit`] in eight lanes (exact: the top 24 bits convert
@@ -125,12 +131,13 @@ mod avx2 {
         let s1 = load(pattern.map(|p| (p >> 32) as u32));
         let j = laine_karras(load(*index_reversed), s0);
         // Dimension 0 is van der Corput's: reversed_sobol(j, 0) = reverse(j).
-        let x = to_unit(reverse_bits(laine_karras(reverse_bits(j), s1)));
+        let a = reverse_bits(j);
+        let x = to_unit(reverse_bits(laine_karras(a, s1)));
         if !two {
             return (x, [0.0; 8]);
         }
         let s2 = load(pattern.map(second_seed));
-        let y = to_unit(reverse_bits(laine_karras(reversed_sobol_1(j), s2)));
+        let y = to_unit(reverse_bits(laine_karras(reversed_sobol_1(a), s2)));
         (x, y)
     }
 }
