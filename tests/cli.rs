@@ -198,6 +198,18 @@ fn bad_arguments_exit_2() {
         (vec!["render", "--bogus"], "--bogus"),
         (vec!["render", "--threads", "0"], "--threads"),
         (vec!["render", "--max-depth", "300"], "--max-depth"),
+        (vec!["render", "--rr-depth", "0"], "--rr-depth"),
+        (
+            vec![
+                "bench",
+                "render",
+                "scenes/cbox-mitsuba.toml",
+                "--rr-depth",
+                "2",
+                "--mitsuba",
+            ],
+            "not be comparable",
+        ),
         (vec!["render", "--exposure", "NaN"], "--exposure"),
         (vec!["render", "--res", "60000x60000"], "pixels"),
         (vec!["render", "-o", "image.bmp"], "unknown image format"),

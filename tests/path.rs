@@ -6,7 +6,7 @@
 //! reflection of the same emission. Next-event estimation, MIS and Russian roulette must
 //! leave the mean unchanged.
 
-use penumbra::math::{PixelSampler, Ray, SamplerKind, UVec2, Vec3};
+use penumbra::math::{PixelSampler, Ray, SamplerKind, UVec2, Vec2, Vec3};
 use penumbra::renderer::integrators::{IntegratorKind, IntegratorOptions};
 use penumbra::renderer::{RayCounts, Scene};
 use penumbra::scene::{build_scene, SourceFile};
@@ -400,12 +400,14 @@ fn a_disk_reflects_the_half_of_the_environment_map_above_it() {
 /// one-path-at-a-time code gives it: the same films, bit for bit, with the lanes on and
 /// off. The scenes reach every branch: triangle lights sampled by area and (close up) by
 /// solid angle in the scalar code, quad and sphere lights (scalar light samples beside
-/// lane continuations), one- and two-sided diffuse seen from both sides, meshes with and
+/// lane continuations), each with the Sobol and the independent sampler (the Sobol one
+/// has lanes of its own), one- and two-sided diffuse seen from both sides, meshes with and
 /// without vertex normals and UVs (normals against the winding too), glossy and glass
 /// neighbours (paths leaving the lanes and coming back), Russian roulette from depth 1.
 #[test]
 fn diffuse_lanes_equal_the_scalar_bounce() {
     use penumbra::renderer::integrators::PathTracer;
+    use penumbra::renderer::Integrator;
     use penumbra::renderer::{render, Film, RenderOptions};
     let mixed = "[render]\nintegrator = \"path\"\nmax_depth = 7\nrr_depth = 1\n\
         [camera]\nposition = [0, 1.2, 4]\ntarget = [0, 0.6, 0]\nfov = 50\n\
@@ -420,7 +422,8 @@ fn diffuse_lanes_equal_the_scalar_bounce() {
         normals = [[0, 0, -1], [0.2, 0, -1], [0, 0.3, -1]]\n\
         [[shape]]\ntype = \"sphere\"\ncenter = [1.2, 0.5, 1]\nradius = 0.4\nmaterial = \"glass\"\n\
         [[shape]]\ntype = \"mesh\"\nmaterial = \"both\"\npositions = [[-0.4, 2, -0.9], [0.4, 2, -0.9], [0, 2, -0.3]]\nindices = [[0, 1, 2]]\nemission = [8, 8, 8]\ntwo_sided = true\n\
-        [[shape]]\ntype = \"sphere\"\ncenter = [-1.5, 1.5, 0.5]\nradius = 0.2\nmaterial = \"both\"\nemission = [5, 4, 3]\n";
+        [[shape]]\ntype = \"sphere\"\ncenter = [-1.5, 1.5, 0.5]\nradius = 0.2\nmaterial = \"both\"\nemission = [5, 4, 3]\n\
+        [[shape]]\ntype = \"quad\"\ncorner = [1.5, 2.2, 0]\nedge1 = [0.4, 0, 0]\nedge2 = [0, 0, 0.4]\nmaterial = \"both\"\nemission = [3, 3, 3]\n";
     let descs = [
         "cbox-mitsuba.toml",
         "materials.toml",
@@ -433,33 +436,44 @@ fn diffuse_lanes_equal_the_scalar_bounce() {
     })
     .into_iter()
     .chain([SourceFile::new("mixed.toml", mixed.to_string())]);
-    for file in descs {
+    for (file, sampler) in descs.flat_map(|f| [(f.clone(), SamplerKind::Sobol), (f, SamplerKind::Independent)]) {
         let mut desc = penumbra::scene::formats::native::read(&file).unwrap();
         (desc.render.width, desc.render.height) = (48, 40);
         let scene = build_scene(&desc).unwrap();
         let options = RenderOptions {
             spp: 3,
             seed: 5,
-            sampler: desc.render.sampler,
+            sampler,
             ..RenderOptions::default()
         };
+        let tracer = |eight_wide: bool| PathTracer {
+            options: IntegratorOptions {
+                max_depth: desc.render.max_depth.max(4),
+                rr_depth: desc.render.rr_depth,
+                ..IntegratorOptions::default()
+            },
+            eight_wide,
+        };
         let film = |eight_wide: bool| {
-            let integrator = PathTracer {
-                options: IntegratorOptions {
-                    max_depth: desc.render.max_depth.max(4),
-                    rr_depth: desc.render.rr_depth,
-                    ..IntegratorOptions::default()
-                },
-                eight_wide,
-            };
             let cancel = std::sync::atomic::AtomicBool::new(false);
             let film = Film::new(scene.width, scene.height, false);
-            render(&scene, &integrator, &options, film, &(), &cancel, &mut |_| {})
+            render(&scene, &tracer(eight_wide), &options, film, &(), &cancel, &mut |_| {})
         };
         let (lanes, scalar) = (film(true), film(false));
-        let name = file.path.display();
+        let name = format!("{} ({sampler:?})", file.path.display());
         assert_eq!(lanes.stats.rays, scalar.stats.rays, "{name}: rays");
         assert!(lanes.film == scalar.film, "{name}: the films differ");
+        // `li` leaves the sampler where the one-path code does (the same dimensions used).
+        let camera = scene.camera.generate_ray(Vec2::new(20.5, 17.5), Vec2::ZERO);
+        for i in 0..64u32 {
+            let next = |eight_wide: bool| {
+                let mut s = PixelSampler::new(sampler, 3, 64);
+                s.start(UVec2::new(i, 1), i);
+                let l = tracer(eight_wide).li(&scene, &camera, &mut s, &mut RayCounts::default());
+                (l, s.next_1d())
+            };
+            assert_eq!(next(true), next(false), "{name}: sample {i}");
+        }
         println!("{name}: identical ({:?})", lanes.stats.rays);
     }
 }

@@ -32,7 +32,7 @@ pub struct RenderBenchArgs {
     #[arg(long)]
     pub sampler: Option<String>,
     /// Path depth from which `path` plays Russian roulette (default: the scene's).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=256))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=penumbra::renderer::integrators::MAX_DEPTH_LIMIT as i64))]
     pub rr_depth: Option<u32>,
     /// A reference image (.exr, .pfm): print our render's relative MSE against it and, with
     /// --mitsuba, the time each renderer needs for the same error.
@@ -50,6 +50,15 @@ struct MitsubaRun {
 
 pub fn run(args: RenderBenchArgs) -> Result<(), Failure> {
     let bad = |m: String| Failure::BadInput(miette::miette!("{m}"));
+    if let Some(d) = args
+        .rr_depth
+        .filter(|&d| args.mitsuba && d != penumbra::renderer::integrators::RR_DEPTH)
+    {
+        return Err(bad(format!(
+            "--rr-depth {d} with --mitsuba: Mitsuba's box is rendered with its rr_depth of {}, so the two would not be comparable",
+            penumbra::renderer::integrators::RR_DEPTH
+        )));
+    }
     let mut desc = penumbra::scene::read_scene(&args.scene).map_err(|e| Failure::BadInput(e.into()))?;
     desc.render.spp = args.spp;
     if let Some(d) = args.rr_depth {

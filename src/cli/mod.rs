@@ -80,8 +80,8 @@ pub struct RenderArgs {
     /// most 256).
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=penumbra::renderer::integrators::MAX_DEPTH_LIMIT as i64))]
     pub max_depth: Option<u32>,
-    /// Path depth from which `path` plays Russian roulette (default 5, Mitsuba's; 1 to 256;
-    /// at max-depth or above, never).
+    /// Path depth from which `path` plays Russian roulette (default: the scene's, else 5,
+    /// Mitsuba's; 1 to 256; at max-depth or above, never).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=penumbra::renderer::integrators::MAX_DEPTH_LIMIT as i64))]
     pub rr_depth: Option<u32>,
     /// Stop tracing rays whose accumulated weight falls below this (default 1e-3).

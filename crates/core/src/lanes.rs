@@ -22,9 +22,7 @@ impl F8 {
     pub fn to_array(self) -> [f32; 8] {
         self.0.to_array()
     }
-}
 
-impl F8 {
     /// The mask that holds in lane `k` where `b[k]`.
     #[inline(always)]
     pub fn mask(b: [bool; 8]) -> wide::f32x8 {
@@ -75,8 +73,9 @@ pub trait Real:
     fn splat(v: f32) -> Self;
     fn sqrt(self) -> Self;
     fn abs(self) -> Self;
-    /// The larger of the two. (`f32::max` and `wide`'s may differ at `max(+0, -0)`; no
-    /// lane-generic routine here takes the maximum of two zeros.)
+    /// The larger of the two. (`f32::max` and `wide`'s may differ at `max(+0, -0)`: a
+    /// lane-generic routine must not let that choice reach its result, e.g. use the
+    /// maximum of two zeros only where a select drops it.)
     fn max(self, other: Self) -> Self;
     /// `self`'s magnitude with `sign`'s sign.
     fn copysign(self, sign: Self) -> Self;

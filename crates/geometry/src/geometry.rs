@@ -110,8 +110,8 @@ impl Geometry {
         let objects = (!self.prims.is_empty() || triangles.is_none()).then(|| build_accel(kind, self.clone()));
         match (triangles, objects) {
             // Only triangles, numbered from 0: their structure answers alone.
-            (Some(triangles), None) if self.prims.is_empty() => triangles,
-            (Some(triangles), objects) => Box::new(Split {
+            (Some(triangles), None) => triangles,
+            (Some(triangles), Some(objects)) => Box::new(Split {
                 triangles,
                 objects,
                 first_triangle: self.prims.len() as u32,
@@ -254,12 +254,11 @@ impl PrimitiveSet for Geometry {
     }
 }
 
-/// The scene's accelerator: one structure over the pooled triangles, one over the shapes
-/// and instances.
+/// The scene's accelerator when it has both: one structure over the pooled triangles, one
+/// over the shapes and instances.
 struct Split {
     triangles: Box<dyn Accel>,
-    /// `None` when the scene has no shapes or instances.
-    objects: Option<Box<dyn Accel>>,
+    objects: Box<dyn Accel>,
     /// What pooled triangle numbers are offset by in hits.
     first_triangle: u32,
 }
@@ -277,35 +276,28 @@ impl Split {
 impl Accel for Split {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let near = self.triangles.intersect(ray, t_max).map(|h| self.renumber(h));
-        match &self.objects {
-            Some(objects) => objects.intersect(ray, near.map_or(t_max, |h| h.t)).or(near),
-            None => near,
-        }
+        self.objects.intersect(ray, near.map_or(t_max, |h| h.t)).or(near)
     }
     fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        self.triangles.occluded(ray, t_max) || self.objects.as_ref().is_some_and(|o| o.occluded(ray, t_max))
+        self.triangles.occluded(ray, t_max) || self.objects.occluded(ray, t_max)
     }
     fn bounds(&self) -> Aabb {
-        let objects = self.objects.as_ref().map_or(Aabb::EMPTY, |o| o.bounds());
-        self.triangles.bounds().union(objects)
+        self.triangles.bounds().union(self.objects.bounds())
     }
     fn intersect_counted(&self, ray: &Ray, t_max: f32, stats: &mut TraversalStats) -> Option<Hit> {
         let near = self
             .triangles
             .intersect_counted(ray, t_max, stats)
             .map(|h| self.renumber(h));
-        match &self.objects {
-            Some(objects) => objects
-                .intersect_counted(ray, near.map_or(t_max, |h| h.t), stats)
-                .or(near),
-            None => near,
-        }
+        self.objects
+            .intersect_counted(ray, near.map_or(t_max, |h| h.t), stats)
+            .or(near)
     }
     fn memory_bytes(&self) -> usize {
-        self.triangles.memory_bytes() + self.objects.as_ref().map_or(0, |o| o.memory_bytes())
+        self.triangles.memory_bytes() + self.objects.memory_bytes()
     }
     fn primitive_bytes(&self) -> usize {
-        self.triangles.primitive_bytes() + self.objects.as_ref().map_or(0, |o| o.primitive_bytes())
+        self.triangles.primitive_bytes() + self.objects.primitive_bytes()
     }
 }
 

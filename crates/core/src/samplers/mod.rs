@@ -76,11 +76,17 @@ pub(crate) struct Key {
 impl Key {
     /// The `k`-th independent hash of the pattern: a seed for one scramble or permutation.
     pub fn seed(&self, k: u64) -> u64 {
-        crate::hash::mix64(self.pattern ^ k.wrapping_mul(0x9E37_79B9_7F4A_7C15))
+        seed_of(self.pattern, k)
     }
 }
 
 /// The sampler state for one pixel: cheap to create, one per pixel sample.
+/// [`Key::seed`] of a key's pattern.
+#[inline]
+pub(crate) fn seed_of(pattern: u64, k: u64) -> u64 {
+    crate::hash::mix64(pattern ^ k.wrapping_mul(0x9E37_79B9_7F4A_7C15))
+}
+
 #[derive(Clone, Debug)]
 pub struct PixelSampler {
     kind: SamplerKind,

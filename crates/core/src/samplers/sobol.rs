@@ -94,7 +94,7 @@ fn seeds(key: &Key) -> [u32; 3] {
 /// ([`Key::seed`]`(2)`).
 #[inline]
 pub(super) fn second_seed(pattern: u64) -> u32 {
-    crate::hash::mix64(pattern ^ 2u64.wrapping_mul(0x9E37_79B9_7F4A_7C15)) as u32
+    super::seed_of(pattern, 2) as u32
 }
 
 /// The shuffled index in the reversed domain: reverse(nested_uniform_scramble(index)).

@@ -32,8 +32,8 @@ use penumbra_core::{PixelSampler, Ray, Rgb};
 /// The default depth (path segments) from which Russian roulette may end paths, Mitsuba's.
 pub const RR_DEPTH: u32 = 5;
 
-/// The most paths traced in lockstep: a whole tile of the driver (16 x 16 pixels), so
-/// that the eight-lane groups stay full as paths end.
+/// The most paths traced in lockstep: a whole tile of the driver at its default size (16 x
+/// 16 pixels), so that the eight-lane groups stay full as paths end.
 pub const BATCH: usize = 256;
 
 pub struct PathTracer {

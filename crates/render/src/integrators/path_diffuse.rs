@@ -51,12 +51,13 @@ fn lane_interaction<'s>(d: &DiffuseLane<'s>, j: usize, s: &SurfaceLanes<F8>, wo:
 }
 
 /// The colour and sidedness of a material the eight-lane bounce takes: Lambertian with a
-/// constant, non-black reflectance, one- or two-sided, no normal map.
+/// constant, non-black, finite reflectance (the scalar BSDF rejects a non-finite sample
+/// weight), one- or two-sided, no normal map.
 fn plain_diffuse(material: &Material) -> Option<(Rgb, bool)> {
     let constant = |m: &Material| match m {
         Material::Diffuse {
             reflectance: Texture::Constant(c),
-        } if !c.is_black() => Some(*c),
+        } if !c.is_black() && c.is_finite() => Some(*c),
         _ => None,
     };
     match material {
@@ -149,20 +150,14 @@ impl PathTracer {
         // Lanes past the group's end repeat its last path; their results are dropped.
         let lane = |j: usize| &group[j.min(n - 1)];
         // The random numbers, in the scalar bounce's order: the light's pick and point,
-        // the lobe choice (a Lambertian BSDF has one lobe: passed over), the direction,
-        // and for Russian roulette one drawn whether or not it is played (a path that
-        // does not play it ends here, so its later dimensions are never used).
+        // the lobe choice (a Lambertian BSDF has one lobe: passed over), the direction;
+        // the one for Russian roulette below, for the paths that go on.
         let idx: [usize; 8] = std::array::from_fn(|j| live[lane(j).k]);
         let idx = &idx[..n];
         let u_pick = PixelSampler::next_1d_lanes(samplers, idx);
         let u_light = PixelSampler::next_2d_lanes(samplers, idx);
         idx.iter().for_each(|&i| samplers[i].skip(1));
         let u_dir = PixelSampler::next_2d_lanes(samplers, idx);
-        let u_rr = if depth + 1 >= self.options.rr_depth {
-            PixelSampler::next_1d_lanes(samplers, idx)
-        } else {
-            [0.0; 8]
-        };
         let picks: [_; 8] = std::array::from_fn(|j| scene.lights.pick(selection, u_pick[j]));
         let triangle = |j: usize| {
             let (index, p_pick) = picks[j]?;
@@ -255,6 +250,18 @@ impl PathTracer {
         let (by_area, lit) = (F8::mask_bits(lo.by_area), F8::mask_bits(lo.ok));
         let (l_origin, l_dir, l_value) = (lo.origin.to_lanes(), lo.dir.to_lanes(), lo.value.to_lanes());
         let (c_ok, c_pdf) = (F8::mask_bits(co.ok), co.pdf.to_array());
+        // Russian roulette's number for each path that goes on, where it is played.
+        let (mut going, mut rank) = ([0usize; 8], [0usize; 8]);
+        let mut going_n = 0;
+        for j in (0..n).filter(|j| c_ok >> j & 1 != 0) {
+            (going[going_n], rank[j]) = (idx[j], going_n);
+            going_n += 1;
+        }
+        let u_rr = if depth + 1 >= self.options.rr_depth && going_n > 0 {
+            PixelSampler::next_1d_lanes(samplers, &going[..going_n])
+        } else {
+            [0.0; 8]
+        };
         let (c_origin, c_dir, c_beta) = (co.origin.to_lanes(), co.dir.to_lanes(), co.beta.to_lanes());
         for (j, d) in group.iter().enumerate() {
             let i = live[d.k];
@@ -285,7 +292,7 @@ impl PathTracer {
                 counts.secondary += 1;
                 path.ray = Ray::new(c_origin[j], c_dir[j]);
                 path.previous = Some((c_origin[j], c_pdf[j]));
-                self.roulette(path, depth, || u_rr[j])
+                self.roulette(path, depth, || u_rr[rank[j]])
             };
         }
     }
