@@ -170,6 +170,16 @@ impl Real for f32 {
     }
 }
 
+/// `F8`'s comparisons: `wide`'s lane masks.
+macro_rules! lane_comparisons {
+    ($($f:ident $trait:ident),*) => {$(
+        #[inline(always)]
+        fn $f(self, other: Self) -> wide::f32x8 {
+            wide::$trait::$f(self.0, other.0)
+        }
+    )*};
+}
+
 impl Real for F8 {
     /// All ones or all zeros per lane.
     type Mask = wide::f32x8;
@@ -193,22 +203,7 @@ impl Real for F8 {
     fn copysign(self, sign: Self) -> Self {
         F8(self.0.copysign(sign.0))
     }
-    #[inline(always)]
-    fn cmp_lt(self, other: Self) -> wide::f32x8 {
-        wide::CmpLt::cmp_lt(self.0, other.0)
-    }
-    #[inline(always)]
-    fn cmp_le(self, other: Self) -> wide::f32x8 {
-        wide::CmpLe::cmp_le(self.0, other.0)
-    }
-    #[inline(always)]
-    fn cmp_gt(self, other: Self) -> wide::f32x8 {
-        wide::CmpGt::cmp_gt(self.0, other.0)
-    }
-    #[inline(always)]
-    fn cmp_eq(self, other: Self) -> wide::f32x8 {
-        wide::CmpEq::cmp_eq(self.0, other.0)
-    }
+    lane_comparisons!(cmp_lt CmpLt, cmp_le CmpLe, cmp_gt CmpGt, cmp_eq CmpEq);
     #[inline(always)]
     fn and(a: wide::f32x8, b: wide::f32x8) -> wide::f32x8 {
         a & b
@@ -352,6 +347,12 @@ impl V3<F8> {
             F8::from(v.map(|v| v.y)),
             F8::from(v.map(|v| v.z)),
         )
+    }
+
+    /// The vector of lane `k`.
+    #[inline(always)]
+    pub fn lane(self, k: usize) -> glam::Vec3 {
+        glam::Vec3::new(self.x.to_array()[k], self.y.to_array()[k], self.z.to_array()[k])
     }
 
     /// The vector of each lane.

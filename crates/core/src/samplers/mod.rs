@@ -80,13 +80,13 @@ impl Key {
     }
 }
 
-/// The sampler state for one pixel: cheap to create, one per pixel sample.
 /// [`Key::seed`] of a key's pattern.
 #[inline]
 pub(crate) fn seed_of(pattern: u64, k: u64) -> u64 {
     crate::hash::mix64(pattern ^ k.wrapping_mul(0x9E37_79B9_7F4A_7C15))
 }
 
+/// The sampler state for one pixel: cheap to create, one per pixel sample.
 #[derive(Clone, Debug)]
 pub struct PixelSampler {
     kind: SamplerKind,

@@ -10,9 +10,11 @@ use crate::hash::u32_to_unit as to_unit;
 use glam::Vec2;
 
 /// Direction numbers of Sobol dimensions 0 and 1 (Joe and Kuo): van der Corput, and the
-/// polynomial x + 1 with m = 1.
+/// polynomial x + 1 with m = 1 (the definition the closed forms below are tested against).
+#[cfg(test)]
 const DIRECTIONS: [[u32; 32]; 2] = directions();
 
+#[cfg(test)]
 const fn directions() -> [[u32; 32]; 2] {
     let mut v = [[0u32; 32]; 2];
     let mut i = 0;
@@ -28,47 +30,37 @@ const fn directions() -> [[u32; 32]; 2] {
     v
 }
 
-/// Sobol points in the bit-reversed domain where Burley's scrambles work: for `j` the
-/// bit-reversed index, `REVERSED[dim][k][b]` is the XOR, over the bits set in byte value
-/// `b` at byte position `k` of `j`, of the matching direction numbers bit-reversed. So
-/// `reversed_sobol(j, dim)` = reverse(sobol(reverse(j), dim)) in four table lookups, and a
-/// scrambled point costs two bit reversals instead of four.
-static REVERSED: [[[u32; 256]; 4]; 2] = reversed_tables();
-
-const fn reversed_tables() -> [[[u32; 256]; 4]; 2] {
-    let mut t = [[[0u32; 256]; 4]; 2];
-    let mut dim = 0;
-    while dim < 2 {
-        let mut k = 0;
-        while k < 4 {
-            let mut b = 0;
-            while b < 256 {
-                let mut x = 0;
-                let mut bit = 0;
-                while bit < 8 {
-                    if b & (1 << bit) != 0 {
-                        x ^= DIRECTIONS[dim][31 - (8 * k + bit)].reverse_bits();
-                    }
-                    bit += 1;
-                }
-                t[dim][k][b] = x;
-                b += 1;
-            }
-            k += 1;
-        }
-        dim += 1;
-    }
-    t
-}
-
-/// reverse(sobol(reverse(j), dim)): Sobol dimension `dim` (0 or 1) in the reversed domain.
+/// reverse(sobol(reverse(j), dim)): Sobol dimension `dim` (0 or 1) in the bit-reversed
+/// domain where Burley's scrambles work, so a scrambled point costs two bit reversals
+/// instead of four. Dimension 0 (van der Corput) is reverse(j); dimension 1 is
+/// [`pascal`] of it.
 #[inline]
 pub(super) fn reversed_sobol(j: u32, dim: usize) -> u32 {
-    let t = &REVERSED[dim];
-    t[0][(j & 0xff) as usize]
-        ^ t[1][(j >> 8 & 0xff) as usize]
-        ^ t[2][(j >> 16 & 0xff) as usize]
-        ^ t[3][(j >> 24) as usize]
+    let a = j.reverse_bits();
+    if dim == 0 {
+        a
+    } else {
+        pascal(a)
+    }
+}
+
+/// The shift and mask of each of [`pascal`]'s steps.
+pub(super) const PASCAL_STEPS: [(u32, u32); 5] = [
+    (1, 0x5555_5555),
+    (2, 0x3333_3333),
+    (4, 0x0f0f_0f0f),
+    (8, 0x00ff_00ff),
+    (16, 0x0000_ffff),
+];
+
+/// Sobol's second dimension from the reversed index `a`: its generator is the Pascal
+/// matrix mod 2 (entry (i, k) is 1 where the bits of i are a subset of those of k, by
+/// Lucas's theorem), and in the reversed domain its product with a vector is the
+/// subset-XOR (zeta) transform over the five bits of a bit position: five shift-mask-XOR
+/// steps instead of the 32 direction numbers.
+#[inline]
+pub(super) fn pascal(a: u32) -> u32 {
+    PASCAL_STEPS.iter().fold(a, |y, &(shift, mask)| y ^ (y >> shift) & mask)
 }
 
 /// Laine and Karras's hash, which scrambles like Owen's nested uniform permutation when
@@ -105,7 +97,7 @@ fn shuffled_reversed(key: &Key, seed: u32) -> u32 {
 
 /// Coordinate `dim` of the point at reversed shuffled index `j`, Owen-scrambled.
 #[inline]
-fn coordinate(j: u32, dim: usize, seed: u32) -> f32 {
+pub(super) fn coordinate(j: u32, dim: usize, seed: u32) -> f32 {
     to_unit(laine_karras(reversed_sobol(j, dim), seed).reverse_bits())
 }
 
@@ -139,10 +131,10 @@ mod tests {
             .fold(0, |x, b| x ^ DIRECTIONS[dim][b])
     }
 
-    /// The reversed-domain tables give exactly Burley's scrambled, shuffled Sobol points
-    /// computed from the definition.
+    /// The reversed-domain closed forms give exactly Burley's scrambled, shuffled Sobol
+    /// points computed from the definition.
     #[test]
-    fn reversed_tables_give_the_scrambled_points_of_the_definition() {
+    fn closed_forms_give_the_scrambled_points_of_the_definition() {
         let mut i = 0u32;
         for step in 0..100_000u32 {
             for dim in 0..2 {

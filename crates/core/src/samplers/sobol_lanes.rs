@@ -1,12 +1,10 @@
 //! The Sobol sampler's points for eight pixel samples at once: the Laine–Karras scrambles,
-//! the bit reversals and the dimension-1 matrix product of [`super::sobol`] in AVX2
-//! integer lanes (byte shuffles for the reversals, a subset-XOR transform instead of the
-//! scalar code's byte tables), with exactly its integer results, so each lane's point is
-//! bit for bit the scalar one. Without AVX2
-//! the lanes are computed one by one by the scalar code.
+//! the bit reversals and the dimension-1 transform of [`super::sobol`] in AVX2 integer
+//! lanes (byte shuffles for the reversals), the same integer operations, so each lane's
+//! point is bit for bit the scalar one. Without AVX2 the lanes are computed one by one by
+//! the scalar code.
 
-use super::sobol::{laine_karras, reversed_sobol, second_seed};
-use crate::hash::u32_to_unit as to_unit;
+use super::sobol::{coordinate, laine_karras, second_seed};
 
 /// The 2D points of eight keys, given by their patterns and reversed sample indices:
 /// `(x, y)` per lane as [`super::sobol::sample_2d`] computes them; with `two == false` only
@@ -30,9 +28,9 @@ fn scalar(pattern: &[u64; 8], index_reversed: &[u32; 8], two: bool) -> ([f32; 8]
     let (mut x, mut y) = ([0.0; 8], [0.0; 8]);
     for k in 0..8 {
         let j = laine_karras(index_reversed[k], pattern[k] as u32);
-        x[k] = to_unit(laine_karras(reversed_sobol(j, 0), (pattern[k] >> 32) as u32).reverse_bits());
+        x[k] = coordinate(j, 0, (pattern[k] >> 32) as u32);
         if two {
-            y[k] = to_unit(laine_karras(reversed_sobol(j, 1), second_seed(pattern[k])).reverse_bits());
+            y[k] = coordinate(j, 1, second_seed(pattern[k]));
         }
     }
     (x, y)
@@ -40,6 +38,7 @@ fn scalar(pattern: &[u64; 8], index_reversed: &[u32; 8], two: bool) -> ([f32; 8]
 
 #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
 mod avx2 {
+    use super::super::sobol::PASCAL_STEPS;
     use super::second_seed;
     use core::arch::x86_64::*;
 
@@ -83,25 +82,13 @@ mod avx2 {
         _mm256_or_si256(_mm256_shuffle_epi8(high, lo), _mm256_shuffle_epi8(low, hi))
     }
 
-    /// [`super::reversed_sobol`] for dimension 1 from `a` = reverse(j): Sobol's second
-    /// dimension is the Pascal matrix mod 2, P[i][k] = 1 where the bits of i are a subset
-    /// of those of k (Lucas), and in the reversed domain its product with a vector is the
-    /// subset-XOR (zeta) transform over the five bits of a bit position: five shift-mask-XOR
-    /// steps, no table.
+    /// [`super::super::sobol::pascal`] in eight lanes.
     #[inline(always)]
-    unsafe fn reversed_sobol_1(a: __m256i) -> __m256i {
-        let mut y = a;
-        for (shift, mask) in [
-            (1, 0x5555_5555u32),
-            (2, 0x3333_3333),
-            (4, 0x0f0f_0f0f),
-            (8, 0x00ff_00ff),
-            (16, 0x0000_ffff),
-        ] {
-            let moved = _mm256_srlv_epi32(y, _mm256_set1_epi32(shift));
-            y = _mm256_xor_si256(y, _mm256_and_si256(moved, _mm256_set1_epi32(mask as i32)));
-        }
-        y
+    unsafe fn pascal(a: __m256i) -> __m256i {
+        PASCAL_STEPS.iter().fold(a, |y, &(shift, mask)| {
+            let moved = _mm256_srlv_epi32(y, _mm256_set1_epi32(shift as i32));
+            _mm256_xor_si256(y, _mm256_and_si256(moved, _mm256_set1_epi32(mask as i32)))
+        })
     }
 
     /// [`crate::hash::u32_to_unit`] in eight lanes (exact: the top 24 bits convert
@@ -130,14 +117,14 @@ mod avx2 {
         let s0 = load(pattern.map(|p| p as u32));
         let s1 = load(pattern.map(|p| (p >> 32) as u32));
         let j = laine_karras(load(*index_reversed), s0);
-        // Dimension 0 is van der Corput's: reversed_sobol(j, 0) = reverse(j).
+        // `reversed_sobol`: reverse(j) for dimension 0, its `pascal` for dimension 1.
         let a = reverse_bits(j);
         let x = to_unit(reverse_bits(laine_karras(a, s1)));
         if !two {
             return (x, [0.0; 8]);
         }
         let s2 = load(pattern.map(second_seed));
-        let y = to_unit(reverse_bits(laine_karras(reversed_sobol_1(a), s2)));
+        let y = to_unit(reverse_bits(laine_karras(pascal(a), s2)));
         (x, y)
     }
 }

@@ -10,7 +10,7 @@
 //! each lane's result is bit for bit what the scalar code gives that path.
 //! `diffuse_lanes_equal_the_scalar_bounce` in `tests/path.rs` holds it to that.
 
-use super::MisHeuristic;
+use super::{nee, MisHeuristic};
 use crate::lights::emitter::{area_to_solid_angle, triangle_point, SMALL_SOLID_ANGLE};
 use penumbra_core::frame::Basis;
 use penumbra_core::lanes::{Real, V3};
@@ -105,18 +105,13 @@ impl<R: Real> Shading<R> {
     /// [`super::nee::Shading::agrees`].
     #[inline(always)]
     fn agrees(&self, wi: V3<R>, l: V3<R>) -> R::Mask {
-        let zero = R::splat(0.0);
-        let a = self.ng.dot(wi).cmp_gt(zero);
-        let b = (l.z * self.wo.z).cmp_gt(zero);
-        let same = R::or(R::and(a, b), R::and(R::not(a), R::not(b)));
-        R::and(R::not(l.z.cmp_eq(zero)), same)
+        nee::agrees(self.ng, self.wo.z, wi, l)
     }
 
     /// [`super::nee::Shading::origin_towards`].
     #[inline(always)]
     fn origin_towards(&self, wi: V3<R>) -> V3<R> {
-        let front = R::splat(0.0).cmp_le(self.ng.dot(wi));
-        V3::select(front, self.origin, offset_origin_lanes(self.p, -self.ng))
+        nee::origin_towards(self.ng, self.origin, self.p, wi)
     }
 
     /// The z of a local direction as the (mirrored) BSDF sees it.

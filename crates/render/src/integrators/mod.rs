@@ -120,15 +120,16 @@ impl IntegratorKind {
     }
 }
 
+/// The extent of a shadow ray whose direction reaches the light's point: all of it but the
+/// last [`penumbra_core::ray::SHADOW_EPSILON`], so the light's own surface is not a blocker.
+pub(super) const SHADOW_T_MAX: f32 = 1.0 - penumbra_core::ray::SHADOW_EPSILON;
+
 /// The shadow ray from `origin` (a surface point already pushed off its surface) towards the
 /// light of `ls`, and its `t_max`, which stops it just short of the light.
 pub(crate) fn shadow_ray(origin: Vec3, ls: &LightSample) -> (Ray, f32) {
     if ls.dist.is_finite() {
         let target = origin + ls.wi * ls.dist;
-        (
-            Ray::new(origin, target - origin),
-            1.0 - penumbra_core::ray::SHADOW_EPSILON,
-        )
+        (Ray::new(origin, target - origin), SHADOW_T_MAX)
     } else {
         (Ray::new(origin, ls.wi), f32::INFINITY)
     }

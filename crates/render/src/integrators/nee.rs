@@ -7,7 +7,8 @@ use crate::bsdfs::{Bsdf, TransportMode};
 use crate::lights::{AreaLight, AreaSampling, Environment, LightSelection};
 use crate::{Interaction, Scene};
 use glam::{Vec2, Vec3};
-use penumbra_core::ray::offset_origin;
+use penumbra_core::lanes::{Real, V3};
+use penumbra_core::ray::{offset_origin, offset_origin_lanes};
 use penumbra_core::{Frame, Ray, Rgb};
 
 /// A shading point: the surface, its BSDF in the shading frame, and where rays leave from.
@@ -48,7 +49,7 @@ impl<'a> Shading<'a> {
     /// Whether the geometric and the shading normal agree on whether `wi` (world; `l` in
     /// the shading frame) is reflected or transmitted (else light would leak through).
     pub fn agrees(&self, wi: Vec3, l: Vec3) -> bool {
-        l.z != 0.0 && (self.ng.dot(wi) > 0.0) == (l.z * self.wo.z > 0.0)
+        agrees(self.ng.into(), self.wo.z, wi.into(), l.into())
     }
 
     /// `wi` in the shading frame, when the normals agree on it (see [`Shading::agrees`]).
@@ -59,12 +60,29 @@ impl<'a> Shading<'a> {
 
     /// Where a ray in direction `wi` leaves from: the point pushed off the surface on `wi`'s side.
     pub fn origin_towards(&self, wi: Vec3) -> Vec3 {
-        if self.ng.dot(wi) >= 0.0 {
-            self.origin
-        } else {
-            offset_origin(self.it.surface.p, -self.ng)
-        }
+        origin_towards(self.ng.into(), self.origin.into(), self.it.surface.p.into(), wi.into()).into()
     }
+}
+
+/// [`Shading::agrees`] for lanes of any [`Real`] type: `ng` the geometric normal on the
+/// side of `wo`, `wo_z` the z of `wo` in the shading frame.
+#[inline(always)]
+pub(super) fn agrees<R: Real>(ng: V3<R>, wo_z: R, wi: V3<R>, l: V3<R>) -> R::Mask {
+    let zero = R::splat(0.0);
+    let (reflected, local_reflected) = (ng.dot(wi).cmp_gt(zero), (l.z * wo_z).cmp_gt(zero));
+    let same = R::or(
+        R::and(reflected, local_reflected),
+        R::and(R::not(reflected), R::not(local_reflected)),
+    );
+    R::and(R::not(l.z.cmp_eq(zero)), same)
+}
+
+/// [`Shading::origin_towards`] for lanes of any [`Real`] type: `origin` is the surface
+/// point `p` pushed off along `ng` (the normal on the side of `wo`).
+#[inline(always)]
+pub(super) fn origin_towards<R: Real>(ng: V3<R>, origin: V3<R>, p: V3<R>, wi: V3<R>) -> V3<R> {
+    let front = R::splat(0.0).cmp_le(ng.dot(wi));
+    V3::select(front, origin, offset_origin_lanes(p, -ng))
 }
 
 /// How the light samples of one shading point are drawn and weighted.

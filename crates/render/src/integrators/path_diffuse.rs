@@ -6,7 +6,7 @@
 use super::diffuse_lanes::{self, DiffuseHit, TriangleLight};
 use super::nee::{self, LightStrategy, Shading};
 use super::path::{PathState, PathTracer, Shadows};
-use super::RayCounts;
+use super::{RayCounts, SHADOW_T_MAX};
 use crate::lights::{Light, LightSelection};
 use crate::{Interaction, Material, Scene, Texture};
 use glam::{Vec2, Vec3};
@@ -34,19 +34,18 @@ pub(super) struct DiffuseLane<'s> {
 /// The scalar [`Interaction`] of lane `j`'s surface (for the light samples the lanes do
 /// not take): the same floats `Scene::interaction` gives.
 fn lane_interaction<'s>(d: &DiffuseLane<'s>, j: usize, s: &SurfaceLanes<F8>, wo: V3<F8>) -> Interaction<'s> {
-    let at = |v: V3<F8>| v.to_lanes()[j];
     Interaction {
         surface: SurfaceHit {
-            p: at(s.p),
-            ng: at(s.ng),
-            ns: at(s.ns),
+            p: s.p.lane(j),
+            ng: s.ng.lane(j),
+            ns: s.ns.lane(j),
             uv: Vec2::new(s.uv.0.to_array()[j], s.uv.1.to_array()[j]),
-            dpdu: at(s.dpdu),
+            dpdu: s.dpdu.lane(j),
             object: d.object,
             triangle: d.triangle,
         },
         material: d.material,
-        wo: at(wo),
+        wo: wo.lane(j),
     }
 }
 
@@ -269,10 +268,7 @@ impl PathTracer {
                 if tris[j] && by_area >> j & 1 != 0 {
                     if lit >> j & 1 != 0 {
                         let v = l_value[j];
-                        let ray = (
-                            Ray::new(l_origin[j], l_dir[j]),
-                            1.0 - penumbra_core::ray::SHADOW_EPSILON,
-                        );
+                        let ray = (Ray::new(l_origin[j], l_dir[j]), SHADOW_T_MAX);
                         shadows.push(ray, (i, Rgb::new(v.x, v.y, v.z)));
                     }
                 } else {
