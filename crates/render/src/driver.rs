@@ -266,22 +266,42 @@ fn render_tile(
     let mut rays_in = Vec::with_capacity(BATCH);
     let mut film_positions = Vec::with_capacity(BATCH);
     let mut radiance = vec![Rgb::BLACK; BATCH];
+    let mut draws = Vec::with_capacity(BATCH);
     for batch in (0..pixel_count).step_by(BATCH) {
         let lanes = BATCH.min(pixel_count - batch);
         rays_in.clear();
         film_positions.clear();
-        for (lane, sampler) in samplers[..lanes].iter_mut().enumerate() {
+        let pixel_of = |lane: usize| {
             let i = (batch + lane) as u32;
-            let pixel = tile.origin + UVec2::new(i % tile.size.x, i / tile.size.x);
-            sampler.start(pixel, index);
-            let u = sampler.next_2d();
+            tile.origin + UVec2::new(i % tile.size.x, i / tile.size.x)
+        };
+        for (lane, sampler) in samplers[..lanes].iter_mut().enumerate() {
+            sampler.start(pixel_of(lane), index);
+        }
+        // Each pixel's first two dimensions (its position in the pixel, then the lens),
+        // eight samplers at a time.
+        draws.clear();
+        draws.resize(lanes, (Vec2::ZERO, Vec2::ZERO));
+        for first in (0..lanes).step_by(8) {
+            let all: [usize; 8] = std::array::from_fn(|j| first + j);
+            let group = &all[..8.min(lanes - first)];
+            let xy = PixelSampler::next_2d_lanes(&mut samplers, group);
+            let lens_xy = lens.then(|| PixelSampler::next_2d_lanes(&mut samplers, group));
+            for (j, &lane) in group.iter().enumerate() {
+                draws[lane].0 = Vec2::new(xy.0[j], xy.1[j]);
+                if let Some(l) = lens_xy {
+                    draws[lane].1 = Vec2::new(l.0[j], l.1[j]);
+                }
+            }
+        }
+        for (lane, &(u, u_lens)) in draws.iter().enumerate() {
+            let pixel = pixel_of(lane);
             let (film_pos, weight) = if splat {
                 (pixel.as_vec2() + u, 1.0)
             } else {
                 let (offset, weight) = filter.sampler.sample(u);
                 (pixel.as_vec2() + Vec2::splat(0.5) + offset, weight)
             };
-            let u_lens = if lens { sampler.next_2d() } else { Vec2::ZERO };
             rays_in.push(scene.camera.generate_ray(film_pos, u_lens));
             film_positions.push((pixel - tile.origin, film_pos, weight));
         }

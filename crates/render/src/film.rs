@@ -3,10 +3,12 @@
 //! infinite) samples. Tiles accumulate one pass in single precision ([`Pixel`]); the film
 //! adds the passes in double precision ([`Film`]).
 
+use glam::Vec4;
 use penumbra_core::Rgb;
 
-/// One pixel of a tile's buffer during a pass.
+/// One pixel of a tile's buffer during a pass (16 bytes, aligned: one SIMD register).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C, align(16))]
 pub struct Pixel {
     /// Sum of filter weight times radiance.
     pub sum: Rgb,
@@ -17,9 +19,12 @@ pub struct Pixel {
 impl Pixel {
     /// Adds a weighted sample, or a weighted share of one taken in a neighbouring pixel
     /// (the pixel's own sample count is kept apart).
+    #[inline(always)]
     pub fn add(&mut self, radiance: Rgb, weight: f32) {
-        self.sum += radiance * weight;
-        self.weight += weight;
+        // The four sums in one SIMD add: the same floats as channel by channel.
+        let s = Vec4::new(self.sum.r, self.sum.g, self.sum.b, self.weight)
+            + Vec4::new(radiance.r, radiance.g, radiance.b, 1.0) * weight;
+        (self.sum, self.weight) = (Rgb::new(s.x, s.y, s.z), s.w);
     }
 
     /// The pixel's estimate: the weighted mean of its samples (black without samples).
