@@ -21,13 +21,13 @@
 //! traced one by one ([`PathTracer::li`] is a batch of one).
 
 use super::nee::{self, LightStrategy, Shading};
-use super::path_diffuse::DiffuseLane;
 use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts};
 use crate::bsdfs::TransportMode;
 use crate::lights::{AreaSampling, LightSelection};
-use crate::{Interaction, Scene};
+use crate::Scene;
 use glam::Vec3;
 use penumbra_core::{PixelSampler, Ray, Rgb};
+use penumbra_geometry::Hit;
 
 /// The default depth (path segments) from which Russian roulette may end paths, Mitsuba's.
 pub const RR_DEPTH: u32 = 5;
@@ -141,24 +141,30 @@ impl PathTracer {
             mis: Some((heuristic, 1.0)),
         };
         let no_ray = Ray::new(Vec3::ZERO, Vec3::Z);
-        let mut paths: [PathState; N] = std::array::from_fn(|i| PathState {
+        // Every array below is written in place (no temporaries copied in) and holds only
+        // what a stage needs: a batch's whole state fits the first-level data cache better.
+        let mut paths = [PathState {
             radiance: Rgb::BLACK,
             beta: Rgb::WHITE,
-            ray: camera_rays.get(i).copied().unwrap_or(no_ray),
+            ray: no_ray,
             previous: None,
             eta_scale: 1.0,
-            alive: i < n,
-        });
+            alive: false,
+        }; N];
+        for (path, ray) in paths.iter_mut().zip(camera_rays) {
+            (path.ray, path.alive) = (*ray, true);
+        }
         let mut rays = [no_ray; N];
         let mut live = [0usize; N];
-        let mut hits: [Option<Interaction>; N] = [const { None }; N];
+        // The paths at plain Lambertian triangles, for the lanes, and the others (surfaces
+        // of any kind, or nothing met), each in the order of `rays`.
+        let mut group = Vec::with_capacity(N);
+        let mut others: Vec<(usize, Option<Hit>)> = Vec::with_capacity(N);
         // Shadow rays (ray, t_max), the path and light each brings if unblocked, and the
         // answers.
         let mut shadow_rays = [(no_ray, 0.0f32); N];
         let mut shadow_light = [(0usize, Rgb::BLACK); N];
         let mut blocked = [false; N];
-        let mut diffuse: [Option<DiffuseLane>; N] = [None; N];
-        let mut group = Vec::with_capacity(N);
         // The paths still alive, compacted as paths end.
         for (i, l) in live.iter_mut().enumerate() {
             *l = i;
@@ -179,15 +185,16 @@ impl PathTracer {
             if count == 0 {
                 break;
             }
-            // The surfaces met; plain Lambertian triangles are set aside for the lanes.
+            // The surfaces met; plain Lambertian triangles are set aside for the lanes (they
+            // are not emitters: nothing to add before their bounce).
+            group.clear();
+            others.clear();
             for k in 0..count {
-                (hits[k], diffuse[k]) = (None, None);
-                let Some(hit) = scene.accel.intersect(&rays[k], f32::INFINITY) else {
-                    continue;
-                };
-                diffuse[k] = self.diffuse_lane(scene, k, &hit);
-                if diffuse[k].is_none() {
-                    hits[k] = Some(scene.interaction(&rays[k], &hit));
+                let hit = scene.accel.intersect(&rays[k], f32::INFINITY);
+                match hit.and_then(|hit| self.diffuse_lane(scene, k, &hit)) {
+                    Some(_) if depth + 1 >= self.options.max_depth => paths[live[k]].alive = false,
+                    Some(d) => group.push(d),
+                    None => others.push((k, hit)),
                 }
             }
 
@@ -195,19 +202,9 @@ impl PathTracer {
             // continuation at each surface; plain Lambertian surfaces after the others,
             // eight at a time.
             let mut m = 0;
-            group.clear();
-            for k in 0..count {
+            for &(k, hit) in &others {
                 let path = &mut paths[live[k]];
-                if let Some(d) = diffuse[k] {
-                    // Not an emitter: nothing to add before the bounce.
-                    if depth + 1 >= self.options.max_depth {
-                        path.alive = false;
-                    } else {
-                        group.push(d);
-                    }
-                    continue;
-                }
-                let Some(it) = &hits[k] else {
+                let Some(hit) = hit else {
                     // The environment, weighted against its light sampling as an emitter is.
                     path.radiance += path.beta
                         * match scene.environment() {
@@ -223,6 +220,7 @@ impl PathTracer {
                     path.alive = false;
                     continue;
                 };
+                let it = &scene.interaction(&rays[k], &hit);
                 if let Some((index, light)) = scene.emitter_at(it) {
                     let normal = light.emitter.normal_at(it.surface.p);
                     let le = light.le(normal, it.wo);
