@@ -25,14 +25,19 @@ pub struct TriangleRay {
 impl TriangleRay {
     #[inline]
     pub fn new(ray: &Ray) -> Self {
-        let kz = ray.dir.abs().max_position();
-        let kx = if kz == 2 { 0 } else { kz + 1 };
-        let ky = if kx == 2 { 0 } else { kx + 1 };
-        let sz = 1.0 / ray.dir[kz];
+        // The largest |component|, the first of equal ones (as `Vec3::max_position`), by
+        // selects rather than branches; `d` repeats x so that kz + 1 and kz + 2 index the
+        // other two axes in cyclic order without a bounds check.
+        let a = ray.dir.abs();
+        let (kz, max) = if a.y > a.x { (1, a.y) } else { (0, a.x) };
+        let kz = if a.z > max { 2 } else { kz };
+        let d = [ray.dir.x, ray.dir.y, ray.dir.z, ray.dir.x, ray.dir.y];
+        let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        let sz = 1.0 / d[kz];
         TriangleRay {
             origin: ray.origin,
             axes: [kx, ky, kz],
-            shear: Vec3::new(-ray.dir[kx] * sz, -ray.dir[ky] * sz, sz),
+            shear: Vec3::new(-d[kz + 1] * sz, -d[kz + 2] * sz, sz),
         }
     }
 
