@@ -125,18 +125,22 @@ impl PixelSampler {
         self.pixel_hash = hash_words(&[self.seed, pixel.x as u64, pixel.y as u64]);
     }
 
+    /// The hash of dimension `d` of this pixel: SplitMix64's sequence seeded with the
+    /// pixel's hash (Steele et al. 2014), one mix per dimension.
+    #[inline(always)]
+    fn pattern(&self, d: u32) -> u64 {
+        crate::hash::mix64(
+            self.pixel_hash
+                .wrapping_add((d as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15)),
+        )
+    }
+
     #[inline]
     fn next_key(&mut self) -> Key {
         let d = self.dimension;
         self.dimension += 1;
-        // SplitMix64's sequence seeded with the pixel's hash (Steele et al. 2014): one
-        // mix per dimension.
-        let pattern = crate::hash::mix64(
-            self.pixel_hash
-                .wrapping_add((d as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15)),
-        );
         Key {
-            pattern,
+            pattern: self.pattern(d),
             index: self.index,
             index_hash: self.index_hash,
             index_reversed: self.index_reversed,
@@ -160,31 +164,63 @@ impl PixelSampler {
     }
 
     fn lanes(samplers: &mut [PixelSampler], lanes: &[usize], two: bool) -> ([f32; 8], [f32; 8]) {
+        Self::draws_lanes(samplers, lanes, [(0, two)], 1)[0]
+    }
+
+    /// Several of the next dimensions of each sampler `samplers[lanes[k]]` at once (as
+    /// [`PixelSampler::next_1d_lanes`]): `plan[m] = (offset, two)` draws the dimension
+    /// `offset` past each sampler's current one, in 2D when `two`, into `result[m]`; then
+    /// each sampler moves on by `advance` dimensions. The values are what drawing them one
+    /// by one (and skipping the others) would give; the samplers' state is read and written
+    /// once for all of them.
+    pub fn draws_lanes<const M: usize>(
+        samplers: &mut [PixelSampler],
+        lanes: &[usize],
+        plan: [(u32, bool); M],
+        advance: u32,
+    ) -> [([f32; 8], [f32; 8]); M] {
         let n = lanes.len();
         assert!((1..=8).contains(&n), "{n} lanes");
+        debug_assert!(plan.iter().all(|&(offset, _)| offset < advance));
+        let mut out = [([0.0; 8], [0.0; 8]); M];
         if samplers[lanes[0]].kind == SamplerKind::Sobol {
-            let mut pattern = [0; 8];
+            let mut patterns = [[0; 8]; M];
             let mut index_reversed = [0; 8];
             for (k, &i) in lanes.iter().enumerate() {
-                let key = samplers[i].next_key();
-                (pattern[k], index_reversed[k]) = (key.pattern, key.index_reversed);
+                let s = &mut samplers[i];
+                for (m, &(offset, _)) in plan.iter().enumerate() {
+                    patterns[m][k] = s.pattern(s.dimension + offset);
+                }
+                index_reversed[k] = s.index_reversed;
+                s.dimension += advance;
             }
             for k in n..8 {
-                (pattern[k], index_reversed[k]) = (pattern[n - 1], index_reversed[n - 1]);
+                index_reversed[k] = index_reversed[n - 1];
+                patterns.iter_mut().for_each(|p| p[k] = p[n - 1]);
             }
-            return sobol_lanes::sample_lanes(&pattern, &index_reversed, two);
+            for (m, &(_, two)) in plan.iter().enumerate() {
+                out[m] = sobol_lanes::sample_lanes(&patterns[m], &index_reversed, two);
+            }
+            return out;
         }
-        let mut out = ([0.0; 8], [0.0; 8]);
         for (k, &i) in lanes.iter().enumerate() {
-            if two {
-                let p = samplers[i].next_2d();
-                (out.0[k], out.1[k]) = (p.x, p.y);
-            } else {
-                out.0[k] = samplers[i].next_1d();
+            let s = &mut samplers[i];
+            let base = s.dimension;
+            for (m, &(offset, two)) in plan.iter().enumerate() {
+                s.dimension = base + offset;
+                if two {
+                    let p = s.next_2d();
+                    (out[m].0[k], out[m].1[k]) = (p.x, p.y);
+                } else {
+                    out[m].0[k] = s.next_1d();
+                }
             }
+            s.dimension = base + advance;
         }
-        for k in n..8 {
-            (out.0[k], out.1[k]) = (out.0[n - 1], out.1[n - 1]);
+        for o in &mut out {
+            for k in n..8 {
+                (o.0[k], o.1[k]) = (o.0[n - 1], o.1[n - 1]);
+            }
         }
         out
     }
@@ -261,6 +297,19 @@ mod tests {
                     }
                     assert_eq!(one[7], one[n - 1], "{kind:?}: padding repeats the last lane");
                 }
+                // Several dimensions at once, some passed over.
+                let [a, b, c] = PixelSampler::draws_lanes(&mut together, &lanes, [(0, false), (1, true), (3, true)], 5);
+                for (k, &i) in lanes.iter().enumerate() {
+                    let s = &mut alone[i];
+                    assert_eq!(a.0[k].to_bits(), s.next_1d().to_bits(), "{kind:?} lane {k}");
+                    let p = s.next_2d();
+                    assert_eq!([b.0[k], b.1[k]], [p.x, p.y], "{kind:?} lane {k}");
+                    s.skip(1);
+                    let p = s.next_2d();
+                    assert_eq!([c.0[k], c.1[k]], [p.x, p.y], "{kind:?} lane {k}");
+                    s.skip(1);
+                }
+                assert_eq!(c.1[7], c.1[n - 1], "{kind:?}: padding repeats the last lane");
                 for i in 0..10 {
                     assert_eq!(together[i].next_1d(), alone[i].next_1d(), "{kind:?} sampler {i}");
                 }

@@ -153,10 +153,8 @@ impl PathTracer {
         // the one for Russian roulette below, for the paths that go on.
         let idx: [usize; 8] = std::array::from_fn(|j| live[lane(j).k]);
         let idx = &idx[..n];
-        let u_pick = PixelSampler::next_1d_lanes(samplers, idx);
-        let u_light = PixelSampler::next_2d_lanes(samplers, idx);
-        idx.iter().for_each(|&i| samplers[i].skip(1));
-        let u_dir = PixelSampler::next_2d_lanes(samplers, idx);
+        let [(u_pick, _), u_light, u_dir] =
+            PixelSampler::draws_lanes(samplers, idx, [(0, false), (1, true), (3, true)], 4);
         let picks: [_; 8] = std::array::from_fn(|j| scene.lights.pick(selection, u_pick[j]));
         let triangle = |j: usize| {
             let (index, p_pick) = picks[j]?;
