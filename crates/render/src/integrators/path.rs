@@ -81,8 +81,12 @@ pub(super) struct Shadows<'a, const N: usize> {
 }
 
 impl<const N: usize> Shadows<'_, N> {
-    pub fn push(&mut self, ray: (Ray, f32), light: (usize, Rgb)) {
-        self.rays[self.len] = ray;
+    /// Adds the shadow ray from `origin` along `dir` up to `t_max`, field by field (a
+    /// whole ray copied through a temporary costs a stalled reload).
+    #[inline(always)]
+    pub fn push(&mut self, origin: Vec3, dir: Vec3, t_max: f32, light: (usize, Rgb)) {
+        let (ray, t) = &mut self.rays[self.len];
+        (ray.origin, ray.dir, *t) = (origin, dir, t_max);
         self.light[self.len] = light;
         self.len += 1;
     }

@@ -105,6 +105,21 @@ impl Columns {
     }
 }
 
+/// The three components of eight lanes' vectors, each as stored from its register.
+struct Lanes3([[f32; 8]; 3]);
+
+impl Lanes3 {
+    #[inline(always)]
+    fn of(v: V3<F8>) -> Self {
+        Lanes3([v.x.to_array(), v.y.to_array(), v.z.to_array()])
+    }
+
+    #[inline(always)]
+    fn at(&self, j: usize) -> Vec3 {
+        Vec3::new(self.0[0][j], self.0[1][j], self.0[2][j])
+    }
+}
+
 impl PathTracer {
     /// `hit` as a lane of the eight-wide bounce, if it is one: a plain Lambertian,
     /// non-emitting triangle of a world-space mesh.
@@ -245,7 +260,6 @@ impl PathTracer {
         );
 
         let (by_area, lit) = (F8::mask_bits(lo.by_area), F8::mask_bits(lo.ok));
-        let (l_origin, l_dir, l_value) = (lo.origin.to_lanes(), lo.dir.to_lanes(), lo.value.to_lanes());
         let (c_ok, c_pdf) = (F8::mask_bits(co.ok), co.pdf.to_array());
         // Russian roulette's number for each path that goes on, where it is played.
         let (mut going, mut rank) = ([0usize; 8], [0usize; 8]);
@@ -259,15 +273,17 @@ impl PathTracer {
         } else {
             [0.0; 8]
         };
-        let (c_origin, c_dir, c_beta) = (co.origin.to_lanes(), co.dir.to_lanes(), co.beta.to_lanes());
+        // Read back one float at a time from whole-register stores (a vector assembled in
+        // a temporary and reloaded across two of its stores would stall the loads).
+        let (l_origin, l_dir, l_value) = (Lanes3::of(lo.origin), Lanes3::of(lo.dir), Lanes3::of(lo.value));
+        let (c_origin, c_dir, c_beta) = (Lanes3::of(co.origin), Lanes3::of(co.dir), Lanes3::of(co.beta));
         for (j, d) in group.iter().enumerate() {
             let i = live[d.k];
             if let Some((index, p_pick)) = picks[j] {
                 if tris[j] && by_area >> j & 1 != 0 {
                     if lit >> j & 1 != 0 {
-                        let v = l_value[j];
-                        let ray = (Ray::new(l_origin[j], l_dir[j]), SHADOW_T_MAX);
-                        shadows.push(ray, (i, Rgb::new(v.x, v.y, v.z)));
+                        let v = l_value.at(j);
+                        shadows.push(l_origin.at(j), l_dir.at(j), SHADOW_T_MAX, (i, Rgb::new(v.x, v.y, v.z)));
                     }
                 } else {
                     let it = lane_interaction(d, j, &surface, wo);
@@ -275,17 +291,22 @@ impl PathTracer {
                     if let Some(test) =
                         nee::light_sample(scene, &sh, index, p_pick, Vec2::new(u_light.0[j], u_light.1[j]), nee)
                     {
-                        shadows.push((test.ray, test.t_max), (i, paths[i].beta * test.value));
+                        shadows.push(
+                            test.ray.origin,
+                            test.ray.dir,
+                            test.t_max,
+                            (i, paths[i].beta * test.value),
+                        );
                     }
                 }
             }
             let path = &mut paths[i];
             path.alive = c_ok >> j & 1 != 0 && {
-                let b = c_beta[j];
+                let b = c_beta.at(j);
                 path.beta = Rgb::new(b.x, b.y, b.z);
                 counts.secondary += 1;
-                path.ray = Ray::new(c_origin[j], c_dir[j]);
-                path.previous = Some((c_origin[j], c_pdf[j]));
+                (path.ray.origin, path.ray.dir) = (c_origin.at(j), c_dir.at(j));
+                path.previous = Some((c_origin.at(j), c_pdf[j]));
                 self.roulette(path, depth, || u_rr[rank[j]])
             };
         }
