@@ -147,10 +147,24 @@ impl Geometry {
     /// For a hit on a world-space mesh's triangle: the mesh, the triangle within it and
     /// the mesh's object number.
     pub fn pooled_hit(&self, hit: &Hit) -> Option<(&TriangleMesh, u32, u32)> {
+        let (mesh, triangle) = self.pooled_index(hit)?;
+        let (m, object) = &self.meshes[mesh];
+        Some((m, triangle, *object))
+    }
+
+    /// For a hit on a world-space mesh's triangle: the mesh's number among
+    /// [`Geometry::meshes`] and the triangle within it.
+    #[inline]
+    pub fn pooled_index(&self, hit: &Hit) -> Option<(usize, u32)> {
         let pooled = hit.prim.checked_sub(self.prims.len() as u32)?;
         let mesh = self.pooled_mesh.get(pooled as usize).map_or(0, |&m| m as usize);
-        let (m, object) = &self.meshes[mesh];
-        Some((m, pooled - self.pooled_starts[mesh], *object))
+        Some((mesh, pooled - self.pooled_starts[mesh]))
+    }
+
+    /// The world-space meshes, each with its object number, in the numbering of
+    /// [`Geometry::pooled_index`].
+    pub fn meshes(&self) -> &[(TriangleMesh, u32)] {
+        &self.meshes
     }
 
     /// The full surface description at `hit`, which `ray` produced.

@@ -1,6 +1,7 @@
 //! The renderable scene: camera, film settings, geometry with its accelerator, materials
 //! and lights. Built from a scene description by `penumbra-scene`.
 
+use crate::integrators::path_diffuse::{lane_meshes, LaneMesh};
 use crate::lights::{AreaLight, Environment, Light, LightSet};
 use crate::{Camera, Filter, Material};
 use glam::Vec3;
@@ -26,6 +27,10 @@ pub struct Scene {
     pub background: Rgb,
     /// Ambient light, reflected by the diffuse albedo of every surface.
     pub ambient: Rgb,
+    /// For each world-space mesh of `geometry`, what the path tracer's eight-lane bounce
+    /// needs if the mesh takes it (one lookup per hit instead of a chain of them); made
+    /// from the fields above by [`Scene::prepared`].
+    pub lane_meshes: Vec<Option<LaneMesh>>,
 }
 
 /// A ray's closest surface hit, with what shading needs.
@@ -37,6 +42,12 @@ pub struct Interaction<'a> {
 }
 
 impl Scene {
+    /// The scene with its derived tables ([`Scene::lane_meshes`]) made from its fields.
+    pub fn prepared(mut self) -> Self {
+        self.lane_meshes = lane_meshes(&self);
+        self
+    }
+
     /// The closest surface along `ray` in `(0, t_max)`.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Interaction<'_>> {
         let hit = self.accel.intersect(ray, t_max)?;

@@ -163,7 +163,9 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         environment,
         background: desc.background,
         ambient: desc.ambient,
-    })
+        lane_meshes: Vec::new(),
+    }
+    .prepared())
 }
 
 /// The environment light `e` describes, its map loaded; the error names the map.

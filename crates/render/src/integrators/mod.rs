@@ -7,7 +7,7 @@ mod diffuse_lanes;
 mod direct;
 mod nee;
 mod path;
-mod path_diffuse;
+pub(crate) mod path_diffuse;
 mod whitted;
 
 pub use direct::{Direct, DirectOptions, LightSampling, MisHeuristic};

@@ -26,14 +26,47 @@ pub(super) struct DiffuseLane<'s> {
     mesh: &'s TriangleMesh,
     triangle: u32,
     object: u32,
-    material: &'s Material,
     /// The hit's barycentric coordinates.
     b: Vec2,
 }
 
+/// A world-space mesh whose triangles take the eight-lane bounce: its object, and its
+/// material's colour and sidedness.
+#[derive(Clone, Copy, Debug)]
+pub struct LaneMesh {
+    object: u32,
+    reflectance: Rgb,
+    two_sided: bool,
+}
+
+/// [`Scene::lane_meshes`]: the meshes with a plain Lambertian material (see
+/// [`plain_diffuse`]) that do not emit.
+pub(crate) fn lane_meshes(scene: &Scene) -> Vec<Option<LaneMesh>> {
+    let emits = |object: u32| scene.lights.emitter_of(object, 0).is_some();
+    scene
+        .geometry
+        .meshes()
+        .iter()
+        .map(|&(_, object)| {
+            let (reflectance, two_sided) = plain_diffuse(scene.material_of(object))?;
+            (!emits(object)).then_some(LaneMesh {
+                object,
+                reflectance,
+                two_sided,
+            })
+        })
+        .collect()
+}
+
 /// The scalar [`Interaction`] of lane `j`'s surface (for the light samples the lanes do
 /// not take): the same floats `Scene::interaction` gives.
-fn lane_interaction<'s>(d: &DiffuseLane<'s>, j: usize, s: &SurfaceLanes<F8>, wo: V3<F8>) -> Interaction<'s> {
+fn lane_interaction<'s>(
+    d: &DiffuseLane,
+    material: &'s Material,
+    j: usize,
+    s: &SurfaceLanes<F8>,
+    wo: V3<F8>,
+) -> Interaction<'s> {
     Interaction {
         surface: SurfaceHit {
             p: s.p.lane(j),
@@ -44,7 +77,7 @@ fn lane_interaction<'s>(d: &DiffuseLane<'s>, j: usize, s: &SurfaceLanes<F8>, wo:
             object: d.object,
             triangle: d.triangle,
         },
-        material: d.material,
+        material,
         wo: wo.lane(j),
     }
 }
@@ -127,20 +160,15 @@ impl PathTracer {
         if !self.eight_wide {
             return None;
         }
-        let (mesh, triangle, object) = scene.geometry.pooled_hit(hit)?;
-        let material = scene.material_of(object);
-        let (reflectance, two_sided) = plain_diffuse(material)?;
-        if scene.lights.emitter_of(object, triangle).is_some() {
-            return None;
-        }
+        let (mesh, triangle) = scene.geometry.pooled_index(hit)?;
+        let lane = (*scene.lane_meshes.get(mesh)?)?;
         Some(DiffuseLane {
             k,
-            reflectance,
-            two_sided,
-            mesh,
+            reflectance: lane.reflectance,
+            two_sided: lane.two_sided,
+            mesh: &scene.geometry.meshes()[mesh].0,
             triangle,
-            object,
-            material,
+            object: lane.object,
             b: hit.uv,
         })
     }
@@ -286,7 +314,7 @@ impl PathTracer {
                         shadows.push(l_origin.at(j), l_dir.at(j), SHADOW_T_MAX, (i, Rgb::new(v.x, v.y, v.z)));
                     }
                 } else {
-                    let it = lane_interaction(d, j, &surface, wo);
+                    let it = lane_interaction(d, scene.material_of(d.object), j, &surface, wo);
                     let sh = Shading::new(&it);
                     if let Some(test) =
                         nee::light_sample(scene, &sh, index, p_pick, Vec2::new(u_light.0[j], u_light.1[j]), nee)
