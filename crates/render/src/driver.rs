@@ -18,7 +18,7 @@
 //! pass and resumed from its film ends exactly where an uninterrupted one does. A raised
 //! cancel flag or a spent time budget stops the render between passes.
 
-use crate::film::{Pixel, AOV_CHANNELS};
+use crate::film::{add_aov, Pixel, AOV_CHANNELS};
 use crate::filter::{FilterSampler, FilterTable};
 use crate::integrators::BATCH;
 use crate::{Film, Integrator, RayCounts, Scene};
@@ -205,21 +205,48 @@ fn render_pass(
         })
         .collect();
     let mut rays = RayCounts::default();
-    for (tile, r) in tiles.iter().zip(&results) {
+    for r in &results {
         rays.add(&r.rays);
         film.rejected += r.rejected;
-        let m = margin as i64;
-        let w = tile.size.x as i64 + 2 * m;
-        for (i, px) in r.pixels.iter().enumerate() {
-            let x = tile.origin.x as i64 - m + i as i64 % w;
-            let y = tile.origin.y as i64 - m + i as i64 / w;
-            if (0..scene.width as i64).contains(&x) && (0..scene.height as i64).contains(&y) {
-                film.add(x as u32, y as u32, px, r.aovs.get(i));
-            }
-        }
+    }
+    let width = film.width as usize;
+    merge_rows(film.pixels_mut(), width, tiles, &results, margin, |r, i, px| {
+        px.add(&r.pixels[i])
+    });
+    if let Some(aovs) = &mut film.aovs {
+        merge_rows(aovs, width, tiles, &results, margin, |r, i, a| add_aov(a, &r.aovs[i]));
     }
     film.samples_per_pixel += 1;
     rays
+}
+
+/// Adds the tiles' buffers (each with a margin of `margin` pixels) to the film's rows
+/// `film` (`width` pixels each), the rows in parallel: each row takes the rows of the
+/// tiles that cover it in tile order, so every pixel's sums are added in the order of
+/// one tile after another, whatever the thread count. `add(result, i, pixel)` adds entry
+/// `i` of a tile's buffer to a film pixel.
+fn merge_rows<T: Send>(
+    film: &mut [T],
+    width: usize,
+    tiles: &[Tile],
+    results: &[TileResult],
+    margin: u32,
+    add: impl Fn(&TileResult, usize, &mut T) + Sync,
+) {
+    let m = margin as i64;
+    film.par_chunks_mut(width).enumerate().for_each(|(y, row)| {
+        for (tile, r) in tiles.iter().zip(results) {
+            let ty = y as i64 - (tile.origin.y as i64 - m);
+            if !(0..tile.size.y as i64 + 2 * m).contains(&ty) {
+                continue;
+            }
+            let w = tile.size.x as i64 + 2 * m;
+            let x0 = tile.origin.x as i64 - m;
+            for tx in (-x0).max(0)..w.min(width as i64 - x0) {
+                add(r, (ty * w + tx) as usize, &mut row[(x0 + tx) as usize]);
+            }
+        }
+    });
 }
 
 /// The AOVs of the first surface `ray` meets: albedo, shading normal, depth (zeros when

@@ -52,6 +52,15 @@ pub struct FilmPixel {
 }
 
 impl FilmPixel {
+    /// Adds one pass's sums of the pixel.
+    #[inline]
+    pub fn add(&mut self, p: &Pixel) {
+        for (s, v) in self.sum.iter_mut().zip(p.sum.to_array()) {
+            *s += v as f64;
+        }
+        self.weight += p.weight as f64;
+    }
+
     /// The pixel's estimate: the weighted mean of its samples (black without weight).
     pub fn value(&self) -> Rgb {
         if self.weight > 0.0 {
@@ -60,6 +69,14 @@ impl FilmPixel {
         } else {
             Rgb::BLACK
         }
+    }
+}
+
+/// Adds one pass's AOV sums of a pixel to the film's.
+#[inline]
+pub fn add_aov(sums: &mut [f64; AOV_CHANNELS], a: &[f32; AOV_CHANNELS]) {
+    for (s, v) in sums.iter_mut().zip(a) {
+        *s += *v as f64;
     }
 }
 
@@ -112,15 +129,9 @@ impl Film {
     /// Adds one pass's contribution to pixel (x, y).
     pub fn add(&mut self, x: u32, y: u32, p: &Pixel, aov: Option<&[f32; AOV_CHANNELS]>) {
         let i = self.index(x, y);
-        let px = &mut self.pixels[i];
-        for (s, v) in px.sum.iter_mut().zip(p.sum.to_array()) {
-            *s += v as f64;
-        }
-        px.weight += p.weight as f64;
+        self.pixels[i].add(p);
         if let (Some(aovs), Some(a)) = (&mut self.aovs, aov) {
-            for (s, v) in aovs[i].iter_mut().zip(a) {
-                *s += *v as f64;
-            }
+            add_aov(&mut aovs[i], a);
         }
     }
 
