@@ -111,8 +111,11 @@ impl<P: PrimitiveSet> Bvh<P> {
     /// whether to stop. The node being visited is kept out of the stack: of the children a
     /// node's box test hits, the nearest is visited next and the others are pushed, farthest
     /// first, with their entry distances, so that popped entries beyond `t_max` are culled.
+    /// With `NEAREST_FIRST == false` (shadow rays, whose `t_max` never shrinks) the hit
+    /// children are pushed as they come, without their distances: every pushed entry is
+    /// entered before `t_max`, so none would be culled.
     #[inline(always)]
-    fn traverse<C: Counter>(
+    fn traverse<C: Counter, const NEAREST_FIRST: bool>(
         &self,
         ray: &Ray,
         mut t_max: f32,
@@ -168,14 +171,16 @@ impl<P: PrimitiveSet> Bvh<P> {
                             prefetch(self.nodes.get(node.child[lane] as usize));
                         }
                         let mut k = top;
-                        // SAFETY: slots below `top` were written.
-                        while k > start && unsafe { dists[k - 1].assume_init() } < d {
-                            refs[k] = refs[k - 1];
-                            dists[k] = dists[k - 1];
-                            k -= 1;
+                        if NEAREST_FIRST {
+                            // SAFETY: slots below `top` were written.
+                            while k > start && unsafe { dists[k - 1].assume_init() } < d {
+                                refs[k] = refs[k - 1];
+                                dists[k] = dists[k - 1];
+                                k -= 1;
+                            }
+                            dists[k].write(d);
                         }
                         refs[k].write(r);
-                        dists[k].write(d);
                         top += 1;
                         if mask == 0 {
                             break;
@@ -195,8 +200,9 @@ impl<P: PrimitiveSet> Bvh<P> {
                     return;
                 }
                 top -= 1;
-                // SAFETY: slots below the old `top` were written.
-                if unsafe { dists[top].assume_init() } <= t_max {
+                // SAFETY: slots below the old `top` were written (`dists` only when
+                // `NEAREST_FIRST`, and only then read).
+                if !NEAREST_FIRST || unsafe { dists[top].assume_init() } <= t_max {
                     current = unsafe { refs[top].assume_init() };
                     break;
                 }
@@ -207,7 +213,7 @@ impl<P: PrimitiveSet> Bvh<P> {
     fn closest_hit<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
         let data = self.prims.prepare(ray);
         let mut closest = None;
-        self.traverse(
+        self.traverse::<C, true>(
             ray,
             t_max,
             stats,
@@ -346,7 +352,7 @@ impl<P: PrimitiveSet> Traverse for Bvh<P> {
     fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
         let data = self.prims.prepare(ray);
         let mut hit = false;
-        self.traverse(
+        self.traverse::<(), false>(
             ray,
             t_max,
             &mut (),
