@@ -65,9 +65,9 @@ pub(super) struct PathState {
     pub radiance: Rgb,
     pub beta: Rgb,
     pub ray: Ray,
-    /// The vertex the ray left and the BSDF density of its direction; `None` after the
-    /// camera or a perfectly specular bounce (nothing else could have sampled it).
-    pub previous: Option<(Vec3, f32)>,
+    /// The BSDF density of the ray's direction at the vertex it left (its origin); `None`
+    /// after the camera or a perfectly specular bounce (nothing else could have sampled it).
+    pub previous_pdf: Option<f32>,
     /// The product of η² over the refractions so far.
     pub eta_scale: f32,
     pub alive: bool,
@@ -151,7 +151,7 @@ impl PathTracer {
             radiance: Rgb::BLACK,
             beta: Rgb::WHITE,
             ray: no_ray,
-            previous: None,
+            previous_pdf: None,
             eta_scale: 1.0,
             alive: false,
         }; N];
@@ -213,7 +213,7 @@ impl PathTracer {
                     path.radiance += path.beta
                         * match scene.environment() {
                             Some(env) => {
-                                let weight = path.previous.map_or(1.0, |(_, p_bsdf)| {
+                                let weight = path.previous_pdf.map_or(1.0, |p_bsdf| {
                                     let mis = (selection, heuristic);
                                     nee::environment_weight(scene, mis, env, path.ray.dir, (1.0, p_bsdf), 1.0)
                                 });
@@ -229,7 +229,8 @@ impl PathTracer {
                     let normal = light.emitter.normal_at(it.surface.p);
                     let le = light.le(normal, it.wo);
                     if !le.is_black() {
-                        let weight = path.previous.map_or(1.0, |(p, p_bsdf)| {
+                        let weight = path.previous_pdf.map_or(1.0, |p_bsdf| {
+                            let p = path.ray.origin;
                             let hit = (index, light);
                             nee::emitter_weight(
                                 scene,
@@ -324,7 +325,7 @@ impl PathTracer {
         path.eta_scale *= bs.eta * bs.eta;
         counts.secondary += 1;
         path.ray = Ray::new(sh.origin_towards(wi), wi);
-        path.previous = (!bs.delta).then_some((path.ray.origin, bs.pdf));
+        path.previous_pdf = (!bs.delta).then_some(bs.pdf);
 
         self.roulette(path, depth, || sampler.next_1d())
     }

@@ -334,7 +334,7 @@ impl PathTracer {
                 path.beta = Rgb::new(b.x, b.y, b.z);
                 counts.secondary += 1;
                 (path.ray.origin, path.ray.dir) = (c_origin.at(j), c_dir.at(j));
-                path.previous = Some((c_origin.at(j), c_pdf[j]));
+                path.previous_pdf = Some(c_pdf[j]);
                 self.roulette(path, depth, || u_rr[rank[j]])
             };
         }
