@@ -158,10 +158,9 @@ impl PathTracer {
         for (path, ray) in paths.iter_mut().zip(camera_rays) {
             (path.ray, path.alive) = (*ray, true);
         }
-        let mut rays = [no_ray; N];
         let mut live = [0usize; N];
         // The paths at plain Lambertian triangles, for the lanes, and the others (surfaces
-        // of any kind, or nothing met), each in the order of `rays`.
+        // of any kind, or nothing met), each in the order of `live`.
         let mut group = Vec::with_capacity(N);
         let mut others: Vec<(usize, Option<Hit>)> = Vec::with_capacity(N);
         // Shadow rays (ray, t_max), the path and light each brings if unblocked, and the
@@ -181,7 +180,6 @@ impl PathTracer {
                 let i = live[j];
                 if paths[i].alive {
                     live[still] = i;
-                    rays[still] = paths[i].ray;
                     still += 1;
                 }
             }
@@ -194,7 +192,7 @@ impl PathTracer {
             group.clear();
             others.clear();
             for k in 0..count {
-                let hit = scene.accel.intersect(&rays[k], f32::INFINITY);
+                let hit = scene.accel.intersect(&paths[live[k]].ray, f32::INFINITY);
                 match hit.and_then(|hit| self.diffuse_lane(scene, k, &hit)) {
                     Some(_) if depth + 1 >= self.options.max_depth => paths[live[k]].alive = false,
                     Some(d) => group.push(d),
@@ -224,7 +222,7 @@ impl PathTracer {
                     path.alive = false;
                     continue;
                 };
-                let it = &scene.interaction(&rays[k], &hit);
+                let it = &scene.interaction(&path.ray, &hit);
                 if let Some((index, light)) = scene.emitter_at(it) {
                     let normal = light.emitter.normal_at(it.surface.p);
                     let le = light.le(normal, it.wo);
@@ -280,7 +278,7 @@ impl PathTracer {
                 self.diffuse_bounces(
                     scene,
                     group,
-                    (&rays, &live),
+                    &live,
                     (&mut paths, samplers),
                     &mut shadows,
                     (depth, &nee, selection),

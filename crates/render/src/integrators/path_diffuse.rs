@@ -11,7 +11,7 @@ use crate::lights::{Light, LightSelection};
 use crate::{Interaction, Material, Scene, Texture};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{F8, V3};
-use penumbra_core::{PixelSampler, Ray, Rgb};
+use penumbra_core::{PixelSampler, Rgb};
 use penumbra_geometry::triangle_lanes::{triangle_surface_lanes, SurfaceLanes, TriangleLanes};
 use penumbra_geometry::{Hit, SurfaceHit, TriangleMesh};
 
@@ -19,7 +19,7 @@ use penumbra_geometry::{Hit, SurfaceHit, TriangleMesh};
 /// the eight-lane bounce (the surface itself is worked out there, in lanes).
 #[derive(Clone, Copy)]
 pub(super) struct DiffuseLane<'s> {
-    /// Where the path is in this depth's rays.
+    /// Where the path is in this depth's list of live paths.
     pub k: usize,
     reflectance: Rgb,
     two_sided: bool,
@@ -182,7 +182,7 @@ impl PathTracer {
         &self,
         scene: &Scene,
         group: &[DiffuseLane],
-        (rays, live): (&[Ray; N], &[usize; N]),
+        live: &[usize; N],
         (paths, samplers): (&mut [PathState; N], &mut [PixelSampler]),
         shadows: &mut Shadows<N>,
         (depth, nee, selection): (u32, &LightStrategy, LightSelection),
@@ -232,7 +232,7 @@ impl PathTracer {
             }
             c.0[Columns::B][j] = d.b.x;
             c.0[Columns::B + 1][j] = d.b.y;
-            c.put(Columns::DIR, j, rays[d.k].dir);
+            c.put(Columns::DIR, j, paths[live[d.k]].ray.dir);
             c.put(Columns::REFLECTANCE, j, rgb(d.reflectance));
             c.put(Columns::BETA, j, rgb(paths[live[d.k]].beta));
             two_sided[j] = d.two_sided;
