@@ -348,7 +348,8 @@ fn render_tile(
             let aov = options.aovs.then(|| first_hit_aovs(scene, ray));
             let mut add = |i: usize, w: f32| {
                 pixels[i].add(l, w);
-                if let Some(a) = &aov {
+                // (An AOV may not be finite: no zero-weight share of it.)
+                if let (Some(a), true) = (&aov, w != 0.0) {
                     aovs[i].iter_mut().zip(a).for_each(|(s, v)| *s += v * w);
                 }
             };
@@ -361,16 +362,18 @@ fn render_tile(
             let local = film_pos - tile.origin.as_vec2() + Vec2::splat(margin as f32);
             let lo = (local - Vec2::splat(radius + 0.5)).ceil().max(Vec2::ZERO);
             let hi = (local + Vec2::splat(radius - 0.5)).floor();
-            let columns = lo.x as u32..=(hi.x as u32).min(stride - 1);
+            // Half-open ranges (an inclusive range costs a flag test per step).
+            let (x0, x1) = (lo.x as u32, (hi.x as u32).min(stride - 1) + 1);
+            let (y0, y1) = (lo.y as u32, (hi.y as u32).min(tile.size.y + 2 * margin - 1) + 1);
             column_weights.clear();
-            column_weights.extend(columns.clone().map(|px| table.eval(px as f32 + 0.5 - local.x)));
-            for py in lo.y as u32..=(hi.y as u32).min(tile.size.y + 2 * margin - 1) {
+            column_weights.extend((x0..x1).map(|px| table.eval(px as f32 + 0.5 - local.x)));
+            for py in y0..y1 {
                 let wy = table.eval(py as f32 + 0.5 - local.y);
-                for (px, &wx) in columns.clone().zip(&column_weights) {
-                    let w = wy * wx;
-                    if w != 0.0 {
-                        add((py * stride + px) as usize, w);
-                    }
+                let row = (py * stride) as usize;
+                // A zero weight (a pixel centre exactly at the radius) adds exact zeros of
+                // finite radiance to sums that are never -0: no test needed.
+                for (px, &wx) in (x0 as usize..).zip(&column_weights) {
+                    add(row + px, wy * wx);
                 }
             }
         }

@@ -55,7 +55,7 @@ impl Filter {
 /// filter). With [`SPLAT_TABLE`] entries the Gaussian is matched to within 1e-5.
 #[derive(Clone, Debug)]
 pub struct FilterTable {
-    values: Vec<f32>,
+    values: Box<[f32; SPLAT_TABLE + 1]>,
     /// Table entries per unit of distance.
     scale: f32,
 }
@@ -68,8 +68,10 @@ impl FilterTable {
         let r = filter.radius();
         let step = r / (SPLAT_TABLE - 1) as f32;
         // One zero past the end, so that interpolation needs no bounds check below the radius.
-        let mut values: Vec<f32> = (0..SPLAT_TABLE).map(|i| filter.eval_1d(i as f32 * step)).collect();
-        values.push(0.0);
+        let mut values = Box::new([0.0; SPLAT_TABLE + 1]);
+        for (i, v) in values[..SPLAT_TABLE].iter_mut().enumerate() {
+            *v = filter.eval_1d(i as f32 * step);
+        }
         FilterTable {
             values,
             scale: if r > 0.0 { 1.0 / step } else { 0.0 },
@@ -81,13 +83,16 @@ impl FilterTable {
     pub fn eval(&self, x: f32) -> f32 {
         let t = x.abs() * self.scale;
         let last = (SPLAT_TABLE - 1) as f32;
-        if t >= last || t.is_nan() {
+        // One comparison for the common case (NaN fails it too).
+        if !(t < last) {
             return if t == last { self.values[SPLAT_TABLE - 1] } else { 0.0 };
         }
         // SAFETY: `t` is finite and in `[0, SPLAT_TABLE - 1)` here, so the conversion is
         // exact truncation (a checked `as` costs a dozen instructions on every splat).
         let i = unsafe { t.to_int_unchecked::<u32>() } as usize;
         let f = t - i as f32;
+        // `min` (never taken) proves both reads in bounds of the fixed-size table.
+        let i = i.min(SPLAT_TABLE - 2);
         self.values[i] * (1.0 - f) + self.values[i + 1] * f
     }
 }
