@@ -83,8 +83,7 @@ impl FilterTable {
     pub fn eval(&self, x: f32) -> f32 {
         let t = x.abs() * self.scale;
         let last = (SPLAT_TABLE - 1) as f32;
-        // One comparison for the common case (NaN fails it too).
-        if !(t < last) {
+        if t >= last || t.is_nan() {
             return if t == last { self.values[SPLAT_TABLE - 1] } else { 0.0 };
         }
         // SAFETY: `t` is finite and in `[0, SPLAT_TABLE - 1)` here, so the conversion is
