@@ -198,8 +198,8 @@ fn render_pass(
     let margin = filter.margin;
     let results: Vec<TileResult> = tiles
         .par_iter()
-        .map(|tile| {
-            let result = render_tile(scene, integrator, options, filter, tile, index);
+        .map_init(Scratch::default, |scratch, tile| {
+            let result = render_tile(scene, integrator, options, filter, tile, index, scratch);
             progress.advance((tile.size.x * tile.size.y) as u64, result.rays.total());
             result
         })
@@ -261,6 +261,20 @@ fn first_hit_aovs(scene: &Scene, ray: &Ray) -> [f32; AOV_CHANNELS] {
     [albedo.r, albedo.g, albedo.b, n.x, n.y, n.z, depth]
 }
 
+/// A worker's buffers for its tiles, kept from tile to tile.
+#[derive(Default)]
+struct Scratch {
+    /// One sampler per lane of a batch, made for the render's settings; `start` sets all
+    /// the rest of a sampler's state for each sample.
+    samplers: Vec<PixelSampler>,
+    rays_in: Vec<Ray>,
+    film_positions: Vec<(UVec2, Vec2, f32)>,
+    radiance: Vec<Rgb>,
+    draws: Vec<(Vec2, Vec2)>,
+    column_weights: Vec<f32>,
+}
+
+#[allow(clippy::too_many_arguments)]
 fn render_tile(
     scene: &Scene,
     integrator: &dyn Integrator,
@@ -268,6 +282,7 @@ fn render_tile(
     filter: &Filters,
     tile: &Tile,
     index: u32,
+    scratch: &mut Scratch,
 ) -> TileResult {
     let sampler = PixelSampler::new(options.sampler, options.seed, options.spp);
     let radius = scene.filter.radius();
@@ -277,7 +292,7 @@ fn render_tile(
     let stride = tile.size.x + 2 * margin;
     let lens = scene.camera.has_lens();
     // The filter's weights for the columns a sample reaches, worked out once per sample.
-    let mut column_weights = Vec::with_capacity(2 * margin as usize + 2);
+    let column_weights = &mut scratch.column_weights;
     let buffer = (stride * (tile.size.y + 2 * margin)) as usize;
     let mut pixels = vec![Pixel::default(); buffer];
     let mut aovs = if options.aovs {
@@ -289,11 +304,17 @@ fn render_tile(
     let mut rejected = 0;
     // The tile's pixels in row order, in batches handed to the integrator together.
     let pixel_count = (tile.size.x * tile.size.y) as usize;
-    let mut samplers = vec![sampler; BATCH.min(pixel_count)];
-    let mut rays_in = Vec::with_capacity(BATCH);
-    let mut film_positions = Vec::with_capacity(BATCH);
-    let mut radiance = vec![Rgb::BLACK; BATCH];
-    let mut draws = Vec::with_capacity(BATCH);
+    let Scratch {
+        samplers,
+        rays_in,
+        film_positions,
+        radiance,
+        draws,
+        ..
+    } = scratch;
+    let batch_size = BATCH.min(pixel_count);
+    samplers.resize(batch_size, sampler);
+    radiance.resize(batch_size, Rgb::BLACK);
     for batch in (0..pixel_count).step_by(BATCH) {
         let lanes = BATCH.min(pixel_count - batch);
         rays_in.clear();
@@ -312,8 +333,8 @@ fn render_tile(
         for first in (0..lanes).step_by(8) {
             let all: [usize; 8] = std::array::from_fn(|j| first + j);
             let group = &all[..8.min(lanes - first)];
-            let xy = PixelSampler::next_2d_lanes(&mut samplers, group);
-            let lens_xy = lens.then(|| PixelSampler::next_2d_lanes(&mut samplers, group));
+            let xy = PixelSampler::next_2d_lanes(samplers, group);
+            let lens_xy = lens.then(|| PixelSampler::next_2d_lanes(samplers, group));
             for (j, &lane) in group.iter().enumerate() {
                 draws[lane].0 = Vec2::new(xy.0[j], xy.1[j]);
                 if let Some(l) = lens_xy {
@@ -335,12 +356,14 @@ fn render_tile(
         rays.camera += lanes as u64;
         integrator.li_batch(
             scene,
-            &rays_in,
+            rays_in,
             &mut samplers[..lanes],
             &mut radiance[..lanes],
             &mut rays,
         );
-        for ((&(UVec2 { x, y }, film_pos, weight), &l), ray) in film_positions.iter().zip(&radiance).zip(&rays_in) {
+        for ((&(UVec2 { x, y }, film_pos, weight), &l), ray) in
+            film_positions.iter().zip(radiance.iter()).zip(rays_in.iter())
+        {
             if !l.is_finite() {
                 rejected += 1;
                 continue;
@@ -372,7 +395,7 @@ fn render_tile(
                 let row = (py * stride) as usize;
                 // A zero weight (a pixel centre exactly at the radius) adds exact zeros of
                 // finite radiance to sums that are never -0: no test needed.
-                for (px, &wx) in (x0 as usize..).zip(&column_weights) {
+                for (px, &wx) in (x0 as usize..).zip(column_weights.iter()) {
                     add(row + px, wy * wx);
                 }
             }
