@@ -128,6 +128,7 @@ pub fn render(
             Tile { origin, size }
         })
         .collect();
+    let covering = covering_tiles(&tiles, scene.height, filter.margin);
     let mut rays = RayCounts::default();
     let mut passes = 0u32;
     let stop = loop {
@@ -147,7 +148,14 @@ pub fn render(
         }
         let index = film.samples_per_pixel;
         rays.add(&render_pass(
-            scene, integrator, options, &filter, &tiles, index, &mut film, progress,
+            scene,
+            integrator,
+            options,
+            &filter,
+            (&tiles, &covering),
+            index,
+            &mut film,
+            progress,
         ));
         passes += 1;
         after_pass(&film);
@@ -190,7 +198,7 @@ fn render_pass(
     integrator: &dyn Integrator,
     options: &RenderOptions,
     filter: &Filters,
-    tiles: &[Tile],
+    (tiles, covering): (&[Tile], &[Vec<u32>]),
     index: u32,
     film: &mut Film,
     progress: &dyn Progress,
@@ -210,43 +218,55 @@ fn render_pass(
         film.rejected += r.rejected;
     }
     let width = film.width as usize;
-    merge_rows(film.pixels_mut(), width, tiles, &results, margin, |r, i, px| {
-        px.add(&r.pixels[i])
-    });
+    let merge = (tiles, covering, &results[..], margin);
+    merge_rows(film.pixels_mut(), width, merge, |r, i, px| px.add(&r.pixels[i]));
     if let Some(aovs) = &mut film.aovs {
-        merge_rows(aovs, width, tiles, &results, margin, |r, i, a| add_aov(a, &r.aovs[i]));
+        merge_rows(aovs, width, merge, |r, i, a| add_aov(a, &r.aovs[i]));
     }
     film.samples_per_pixel += 1;
     rays
 }
 
+/// For each film row, the tiles whose buffers (each with a margin of `margin` pixels)
+/// reach it, in tile order.
+fn covering_tiles(tiles: &[Tile], height: u32, margin: u32) -> Vec<Vec<u32>> {
+    let mut covering = vec![Vec::new(); height as usize];
+    for (k, tile) in tiles.iter().enumerate() {
+        let first = tile.origin.y.saturating_sub(margin);
+        let end = (tile.origin.y + tile.size.y + margin).min(height);
+        for row in &mut covering[first as usize..end as usize] {
+            row.push(k as u32);
+        }
+    }
+    covering
+}
+
 /// Adds the tiles' buffers (each with a margin of `margin` pixels) to the film's rows
 /// `film` (`width` pixels each), the rows in parallel: each row takes the rows of the
-/// tiles that cover it in tile order, so every pixel's sums are added in the order of
-/// one tile after another, whatever the thread count. `add(result, i, pixel)` adds entry
-/// `i` of a tile's buffer to a film pixel.
+/// tiles that cover it (`covering`, from [`covering_tiles`]) in tile order, so every
+/// pixel's sums are added in the order of one tile after another, whatever the thread
+/// count. `add(result, i, pixel)` adds entry `i` of a tile's buffer to a film pixel.
 fn merge_rows<T: Send>(
     film: &mut [T],
     width: usize,
-    tiles: &[Tile],
-    results: &[TileResult],
-    margin: u32,
+    (tiles, covering, results, margin): (&[Tile], &[Vec<u32>], &[TileResult], u32),
     add: impl Fn(&TileResult, usize, &mut T) + Sync,
 ) {
     let m = margin as i64;
-    film.par_chunks_mut(width).enumerate().for_each(|(y, row)| {
-        for (tile, r) in tiles.iter().zip(results) {
-            let ty = y as i64 - (tile.origin.y as i64 - m);
-            if !(0..tile.size.y as i64 + 2 * m).contains(&ty) {
-                continue;
+    film.par_chunks_mut(width)
+        .zip(covering)
+        .enumerate()
+        .for_each(|(y, (row, cover))| {
+            for &k in cover {
+                let (tile, r) = (&tiles[k as usize], &results[k as usize]);
+                let ty = y as i64 - (tile.origin.y as i64 - m);
+                let w = tile.size.x as i64 + 2 * m;
+                let x0 = tile.origin.x as i64 - m;
+                for tx in (-x0).max(0)..w.min(width as i64 - x0) {
+                    add(r, (ty * w + tx) as usize, &mut row[(x0 + tx) as usize]);
+                }
             }
-            let w = tile.size.x as i64 + 2 * m;
-            let x0 = tile.origin.x as i64 - m;
-            for tx in (-x0).max(0)..w.min(width as i64 - x0) {
-                add(r, (ty * w + tx) as usize, &mut row[(x0 + tx) as usize]);
-            }
-        }
-    });
+        });
 }
 
 /// The AOVs of the first surface `ray` meets: albedo, shading normal, depth (zeros when
@@ -372,7 +392,7 @@ fn render_tile(
             let mut add = |i: usize, w: f32| {
                 pixels[i].add(l, w);
                 // (An AOV may not be finite: no zero-weight share of it.)
-                if let (Some(a), true) = (&aov, w != 0.0) {
+                if let Some(a) = aov.as_ref().filter(|_| w != 0.0) {
                     aovs[i].iter_mut().zip(a).for_each(|(s, v)| *s += v * w);
                 }
             };

@@ -126,15 +126,6 @@ impl Film {
         &mut self.pixels
     }
 
-    /// Adds one pass's contribution to pixel (x, y).
-    pub fn add(&mut self, x: u32, y: u32, p: &Pixel, aov: Option<&[f32; AOV_CHANNELS]>) {
-        let i = self.index(x, y);
-        self.pixels[i].add(p);
-        if let (Some(aovs), Some(a)) = (&mut self.aovs, aov) {
-            add_aov(&mut aovs[i], a);
-        }
-    }
-
     /// The image: every pixel's estimate, row by row from the top.
     pub fn image(&self) -> Vec<Rgb> {
         self.pixels.iter().map(FilmPixel::value).collect()

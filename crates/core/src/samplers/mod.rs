@@ -154,17 +154,13 @@ impl PixelSampler {
     /// value is what [`PixelSampler::next_1d`] would return; Sobol samplers compute the
     /// eight together in SIMD lanes.
     pub fn next_1d_lanes(samplers: &mut [PixelSampler], lanes: &[usize]) -> [f32; 8] {
-        Self::lanes(samplers, lanes, false).0
+        Self::draws_lanes(samplers, lanes, [(0, false)], 1)[0].0
     }
 
     /// [`PixelSampler::next_1d_lanes`] for [`PixelSampler::next_2d`]: the x and the y of
     /// each lane's point.
     pub fn next_2d_lanes(samplers: &mut [PixelSampler], lanes: &[usize]) -> ([f32; 8], [f32; 8]) {
-        Self::lanes(samplers, lanes, true)
-    }
-
-    fn lanes(samplers: &mut [PixelSampler], lanes: &[usize], two: bool) -> ([f32; 8], [f32; 8]) {
-        Self::draws_lanes(samplers, lanes, [(0, two)], 1)[0]
+        Self::draws_lanes(samplers, lanes, [(0, true)], 1)[0]
     }
 
     /// Several of the next dimensions of each sampler `samplers[lanes[k]]` at once (as

@@ -136,7 +136,7 @@ mod tests {
     use crate::samplers::Key;
 
     /// Eight lanes give the scalar sampler's floats bit for bit, for patterns and indices
-    /// over the whole 32 and 64 bits (every table byte, reversals of every bit position).
+    /// over the whole 32 and 64 bits (reversals and scrambles of every bit position).
     #[test]
     fn lanes_equal_the_scalar_points() {
         #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]

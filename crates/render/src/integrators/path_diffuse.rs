@@ -21,11 +21,10 @@ use penumbra_geometry::{Hit, SurfaceHit, TriangleMesh};
 pub(super) struct DiffuseLane<'s> {
     /// Where the path is in this depth's list of live paths.
     pub k: usize,
-    reflectance: Rgb,
-    two_sided: bool,
+    /// What the mesh's triangles share: object, colour, sidedness.
+    lane: &'s LaneMesh,
     mesh: &'s TriangleMesh,
     triangle: u32,
-    object: u32,
     /// The hit's barycentric coordinates.
     b: Vec2,
 }
@@ -42,14 +41,13 @@ pub struct LaneMesh {
 /// [`Scene::lane_meshes`]: the meshes with a plain Lambertian material (see
 /// [`plain_diffuse`]) that do not emit.
 pub(crate) fn lane_meshes(scene: &Scene) -> Vec<Option<LaneMesh>> {
-    let emits = |object: u32| scene.lights.emitter_of(object, 0).is_some();
     scene
         .geometry
         .meshes()
         .iter()
         .map(|&(_, object)| {
             let (reflectance, two_sided) = plain_diffuse(scene.material_of(object))?;
-            (!emits(object)).then_some(LaneMesh {
+            (!scene.lights.emits(object)).then_some(LaneMesh {
                 object,
                 reflectance,
                 two_sided,
@@ -74,7 +72,7 @@ fn lane_interaction<'s>(
             ns: s.ns.lane(j),
             uv: Vec2::new(s.uv.0.to_array()[j], s.uv.1.to_array()[j]),
             dpdu: s.dpdu.lane(j),
-            object: d.object,
+            object: d.lane.object,
             triangle: d.triangle,
         },
         material,
@@ -161,14 +159,11 @@ impl PathTracer {
             return None;
         }
         let (mesh, triangle) = scene.geometry.pooled_index(hit)?;
-        let lane = (*scene.lane_meshes.get(mesh)?)?;
         Some(DiffuseLane {
             k,
-            reflectance: lane.reflectance,
-            two_sided: lane.two_sided,
+            lane: scene.lane_meshes.get(mesh)?.as_ref()?,
             mesh: &scene.geometry.meshes()[mesh].0,
             triangle,
-            object: lane.object,
             b: hit.uv,
         })
     }
@@ -194,8 +189,8 @@ impl PathTracer {
         // The random numbers, in the scalar bounce's order: the light's pick and point,
         // the lobe choice (a Lambertian BSDF has one lobe: passed over), the direction;
         // the one for Russian roulette below, for the paths that go on.
-        let idx: [usize; 8] = std::array::from_fn(|j| live[lane(j).k]);
-        let idx = &idx[..n];
+        let path_of: [usize; 8] = std::array::from_fn(|j| live[lane(j).k]);
+        let idx = &path_of[..n];
         let [(u_pick, _), u_light, u_dir] =
             PixelSampler::draws_lanes(samplers, idx, [(0, false), (1, true), (3, true)], 4);
         let picks: [_; 8] = std::array::from_fn(|j| scene.lights.pick(selection, u_pick[j]));
@@ -232,10 +227,11 @@ impl PathTracer {
             }
             c.0[Columns::B][j] = d.b.x;
             c.0[Columns::B + 1][j] = d.b.y;
-            c.put(Columns::DIR, j, paths[live[d.k]].ray.dir);
-            c.put(Columns::REFLECTANCE, j, rgb(d.reflectance));
-            c.put(Columns::BETA, j, rgb(paths[live[d.k]].beta));
-            two_sided[j] = d.two_sided;
+            let path = &paths[path_of[j]];
+            c.put(Columns::DIR, j, path.ray.dir);
+            c.put(Columns::REFLECTANCE, j, rgb(d.lane.reflectance));
+            c.put(Columns::BETA, j, rgb(path.beta));
+            two_sided[j] = d.lane.two_sided;
             if let Some((v, normal, centroid, light, p_pick)) = triangle(j) {
                 c.put(Columns::V, j, v[0]);
                 c.put(Columns::V + 3, j, v[1]);
@@ -306,7 +302,7 @@ impl PathTracer {
         let (l_origin, l_dir, l_value) = (Lanes3::of(lo.origin), Lanes3::of(lo.dir), Lanes3::of(lo.value));
         let (c_origin, c_dir, c_beta) = (Lanes3::of(co.origin), Lanes3::of(co.dir), Lanes3::of(co.beta));
         for (j, d) in group.iter().enumerate() {
-            let i = live[d.k];
+            let i = path_of[j];
             if let Some((index, p_pick)) = picks[j] {
                 if tris[j] && by_area >> j & 1 != 0 {
                     if lit >> j & 1 != 0 {
@@ -314,7 +310,7 @@ impl PathTracer {
                         shadows.push(l_origin.at(j), l_dir.at(j), SHADOW_T_MAX, (i, Rgb::new(v.x, v.y, v.z)));
                     }
                 } else {
-                    let it = lane_interaction(d, scene.material_of(d.object), j, &surface, wo);
+                    let it = lane_interaction(d, scene.material_of(d.lane.object), j, &surface, wo);
                     let sh = Shading::new(&it);
                     if let Some(test) =
                         nee::light_sample(scene, &sh, index, p_pick, Vec2::new(u_light.0[j], u_light.1[j]), nee)

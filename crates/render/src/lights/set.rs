@@ -131,6 +131,11 @@ impl LightSet {
         self.groups[group].lights.clone()
     }
 
+    /// Whether scene object `object` emits (then every triangle of it has its own light).
+    pub fn emits(&self, object: u32) -> bool {
+        self.object_lights.get(object as usize).is_some_and(Option::is_some)
+    }
+
     /// The area light of `triangle` (0 for analytic shapes) of scene object `object`, if it emits.
     pub fn emitter_of(&self, object: u32, triangle: u32) -> Option<(u32, &AreaLight)> {
         let first = (*self.object_lights.get(object as usize)?)?;
