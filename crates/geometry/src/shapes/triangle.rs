@@ -25,19 +25,26 @@ pub struct TriangleRay {
 impl TriangleRay {
     #[inline]
     pub fn new(ray: &Ray) -> Self {
-        // The largest |component|, the first of equal ones (as `Vec3::max_position`), by
-        // selects rather than branches; `d` repeats x so that kz + 1 and kz + 2 index the
-        // other two axes in cyclic order without a bounds check.
-        let a = ray.dir.abs();
-        let (kz, max) = if a.y > a.x { (1, a.y) } else { (0, a.x) };
-        let kz = if a.z > max { 2 } else { kz };
-        let d = [ray.dir.x, ray.dir.y, ray.dir.z, ray.dir.x, ray.dir.y];
+        // The largest |component|, the first of equal ones (as `Vec3::max_position`), and
+        // the two after it in cyclic order, by selects rather than branches or an array
+        // indexed by the result (whose load would wait on the stores that filled it).
+        let (a, d) = (ray.dir.abs(), ray.dir);
+        let (kz, max, dz, dx, dy) = if a.y > a.x {
+            (1, a.y, d.y, d.z, d.x)
+        } else {
+            (0, a.x, d.x, d.y, d.z)
+        };
+        let (kz, dz, dx, dy) = if a.z > max {
+            (2, d.z, d.x, d.y)
+        } else {
+            (kz, dz, dx, dy)
+        };
         let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
-        let sz = 1.0 / d[kz];
+        let sz = 1.0 / dz;
         TriangleRay {
             origin: ray.origin,
             axes: [kx, ky, kz],
-            shear: Vec3::new(-d[kz + 1] * sz, -d[kz + 2] * sz, sz),
+            shear: Vec3::new(-dx * sz, -dy * sz, sz),
         }
     }
 
