@@ -215,7 +215,8 @@ fn bad_arguments_exit_2() {
         (vec!["render", "-o", "image.bmp"], "unknown image format"),
         (vec!["render", "--integrator", "magic"], "unknown value `magic`"),
         (vec!["render", "does-not-exist.toml"], "cannot read does-not-exist.toml"),
-        (vec!["render", "scene.obj"], "cannot read scene.obj"),
+        (vec!["render", "scene.obj"], "scene.obj"),
+        (vec!["render", "scene.xml"], "unsupported scene format"),
         (vec!["render", "--light-samples", "0"], "at least one shadow ray"),
         (
             vec!["render", "--light-sampling", "grid", "--light-samples", "3"],
@@ -472,4 +473,74 @@ fn bench_render_measures_its_error_against_a_reference() {
     );
     assert!(!out.status.success(), "{}", text(&out.stdout));
     assert!(text(&out.stderr).contains("the reference is"), "{}", text(&out.stderr));
+}
+
+/// A bare `.ply` or `.obj` renders framed by the default camera: the mesh covers the
+/// image's centre (lit, brighter than nothing) and stays off its corners (the sky);
+/// broken meshes exit 2 naming the file and the fault.
+#[test]
+fn bare_meshes_render_framed_and_broken_ones_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    // A tetrahedron far from the origin (ASCII PLY with an extra vertex property and a
+    // quad face) and a cube of quads (OBJ, `f v//vn` syntax).
+    let ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty float confidence\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n\
+               50 10 -3 1\n52 10 -3 1\n51 12 -3 1\n51 11 -1 1\n3 0 1 2\n3 0 1 3\n3 1 2 3\n3 2 0 3\n";
+    let mut obj = String::new();
+    for k in 0..8 {
+        obj += &format!("v {} {} {}\n", k & 1, k >> 1 & 1, k >> 2 & 1);
+    }
+    obj += "vn 0 0 1\n";
+    for f in ["1 2 4 3", "5 7 8 6", "1 5 6 2", "3 4 8 7", "1 3 7 5", "2 6 8 4"] {
+        obj += &format!(
+            "f {}\n",
+            f.split(' ').map(|v| format!("{v}//1")).collect::<Vec<_>>().join(" ")
+        );
+    }
+    for (name, body) in [("tetra.ply", ply), ("cube.obj", obj.as_str())] {
+        let mesh = dir.path().join(name);
+        std::fs::write(&mesh, body).unwrap();
+        let out_path = dir.path().join(format!("{name}.pfm"));
+        let out = penumbra(
+            dir.path(),
+            &[
+                "render",
+                mesh.to_str().unwrap(),
+                "-o",
+                out_path.to_str().unwrap(),
+                "--res",
+                "64x48",
+                "--spp",
+                "4",
+            ],
+        );
+        assert!(out.status.success(), "{name}: {}", text(&out.stderr));
+        let image = penumbra::scene::image_io::read_image(&out_path).unwrap();
+        let at = |x: u32, y: u32| image.pixels[(y * image.width + x) as usize];
+        // The sky's radiance is 0.3; the filter's weights sum to it within rounding.
+        let is_sky = |c: penumbra::math::Rgb| [c.r, c.g, c.b].iter().all(|v| (v - 0.3).abs() < 1e-4);
+        for (x, y) in [(0, 0), (63, 0), (0, 47), (63, 47)] {
+            assert!(is_sky(at(x, y)), "{name}: corner ({x}, {y}) {:?}", at(x, y));
+        }
+        let centre = at(32, 24);
+        assert!(
+            !is_sky(centre) && centre.r > 0.05,
+            "{name}: the mesh at the centre, {centre:?}"
+        );
+    }
+    for (name, body, needle) in [
+        ("missing.ply", None, "missing.ply"),
+        ("range.ply", Some(ply.replace("3 2 0 3\n", "3 2 0 9\n")), "range.ply"),
+        ("cut.ply", Some(ply[..ply.len() - 20].to_string()), "cut.ply"),
+        ("empty.obj", Some("# nothing\n".to_string()), "no faces"),
+    ] {
+        let mesh = dir.path().join(name);
+        if let Some(body) = body {
+            std::fs::write(&mesh, body).unwrap();
+        }
+        let out = penumbra(dir.path(), &["render", mesh.to_str().unwrap(), "-o", "x.png"]);
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{name}: {stderr}");
+        assert!(stderr.contains(needle), "{name}: expected `{needle}` in {stderr}");
+        assert!(!stderr.contains("panicked"), "{name}: {stderr}");
+    }
 }

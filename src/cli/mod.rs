@@ -44,7 +44,9 @@ enum Command {
 /// Options of `penumbra render`; each overrides what the scene file says.
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Scene file (.toml, the native format); the built-in default scene when omitted.
+    /// Scene file: .toml (the native format), or a bare .obj or .ply mesh (shown by a default
+    /// camera framing it, a grey material, a sky and a key light); the built-in default scene
+    /// when omitted.
     pub scene: Option<PathBuf>,
     /// Output image; the format follows the extension: .png (8-bit sRGB), .exr (linear
     /// 32-bit float), .pfm (linear 32-bit float).

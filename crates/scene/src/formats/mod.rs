@@ -3,6 +3,7 @@
 //! Adding a format: a new module with a `read(&Arc<SourceFile>) -> Result<SceneDesc>` and
 //! one arm in [`read_scene`].
 
+pub mod bare_mesh;
 pub mod native;
 pub mod obj;
 pub mod ply;
@@ -25,7 +26,9 @@ pub fn drop_degenerate(mesh: &mut TriangleMesh, what: &str) -> Option<String> {
     }
 }
 
-/// Reads the scene file at `path`, choosing the reader by its extension.
+/// Reads the scene file at `path`, choosing the reader by its extension: `.toml` the native
+/// format, `.obj` and `.ply` a bare mesh shown by a default camera and light
+/// ([`bare_mesh`]).
 pub fn read_scene(path: &Path) -> Result<SceneDesc, SceneError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     match ext.as_deref() {
@@ -33,9 +36,10 @@ pub fn read_scene(path: &Path) -> Result<SceneDesc, SceneError> {
             let text = std::fs::read_to_string(path).map_err(|e| SceneError::io(path, e))?;
             native::read(&SourceFile::new(path, text))
         }
+        Some("obj" | "ply") => bare_mesh::read(path),
         _ => Err(SceneError::io(
             path,
-            "unsupported scene format: expected a .toml scene file (the native format)",
+            "unsupported scene format: expected a .toml scene file (the native format) or a bare .obj or .ply mesh",
         )),
     }
 }

@@ -1,0 +1,172 @@
+//! A bare mesh (`.obj` or `.ply`) as a scene: what a user who asks "what does my mesh look
+//! like?" expects to see. The mesh in a two-sided light grey diffuse material, under a white
+//! sky with a key light from the upper left behind the camera, seen from the front (+z, y
+//! up, the convention of both formats), a little from above and the right, by a camera
+//! that frames its bounding box; path traced, 64 samples per pixel, 800 x 600.
+//! Everything can be overridden from the command line (`--spp`, `--res`, `--max-depth`,
+//! `--integrator`).
+
+use super::{drop_degenerate, obj, ply};
+use crate::desc::{CameraDesc, CameraKind, EnvironmentDesc, EnvironmentSource, LightDesc, MaterialDesc, ShapeDesc};
+use crate::desc::{RenderDesc, ShapeKind};
+use crate::{SceneDesc, SceneError};
+use glam::Vec3;
+use penumbra_core::{Aabb, Rgb, Transform};
+use penumbra_render::cameras::FovAxis;
+use penumbra_render::integrators::IntegratorKind;
+use penumbra_render::{Material, Texture};
+use std::path::Path;
+use std::sync::Arc;
+
+/// The camera's vertical field of view, degrees.
+const FOV: f32 = 35.0;
+/// The direction from the mesh's centre to the camera: in front (+z), 20 degrees to the
+/// right and 25 degrees up.
+fn view_direction() -> Vec3 {
+    let (yaw, pitch) = (20f32.to_radians(), 25f32.to_radians());
+    Vec3::new(yaw.sin() * pitch.cos(), pitch.sin(), yaw.cos() * pitch.cos())
+}
+
+/// Reads the mesh at `path` (`.obj` or `.ply`, by extension) into a scene that shows it.
+pub fn read(path: &Path) -> Result<SceneDesc, SceneError> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let loaded = match ext.as_deref() {
+        Some("obj") => obj::load(path),
+        _ => ply::load(path),
+    };
+    let mut mesh = loaded.map_err(|e| SceneError::io(path, e))?;
+    let mut warnings = Vec::new();
+    warnings.extend(drop_degenerate(&mut mesh, &path.display().to_string()));
+    let bounds = mesh.positions.iter().fold(Aabb::EMPTY, |b, &p| b.grow(p));
+    if !bounds.min.is_finite() || !bounds.max.is_finite() {
+        return Err(SceneError::io(
+            path,
+            "the mesh has a vertex that is not a finite number",
+        ));
+    }
+    let mut desc = SceneDesc::empty();
+    desc.render = RenderDesc {
+        width: 800,
+        height: 600,
+        spp: 64,
+        integrator: IntegratorKind::Path,
+        max_depth: 8,
+        ..RenderDesc::default()
+    };
+    desc.camera = frame(bounds);
+    desc.materials.push(MaterialDesc {
+        name: "grey".into(),
+        material: Material::TwoSided(Box::new(Material::Diffuse {
+            reflectance: Texture::Constant(Rgb::splat(0.7)),
+        })),
+    });
+    desc.shapes.push(ShapeDesc {
+        kind: ShapeKind::Mesh(Arc::new(mesh)),
+        transform: Transform::IDENTITY,
+        material: Some(0),
+        emission: None,
+        location: None,
+    });
+    // A sky of radiance 0.3 and a key light of irradiance 1.5 from the upper left behind
+    // the camera: the grey surface reads about 0.7 (0.3 + 1.5/pi) = 0.54 where it faces the
+    // light, 0.21 or less where only the sky lights it.
+    desc.environment = Some(EnvironmentDesc {
+        source: EnvironmentSource::Constant,
+        scale: Rgb::splat(0.3),
+        transform: Transform::IDENTITY,
+        location: None,
+    });
+    let right = Vec3::Y.cross(view_direction()).normalize();
+    desc.lights.push(LightDesc::Directional {
+        direction: -(view_direction() - right * 0.8 + Vec3::Y * 0.6).normalize(),
+        irradiance: Rgb::splat(1.5),
+    });
+    desc.warnings = warnings;
+    Ok(desc)
+}
+
+/// A camera looking at the centre of `bounds` along [`view_direction`], as near as it can
+/// be with every corner of the bounds inside 90% of the frame's height and of its width
+/// (for any image at least as wide as it is high).
+fn frame(bounds: Aabb) -> CameraDesc {
+    let center = (bounds.min + bounds.max) * 0.5;
+    let forward = -view_direction();
+    let right = forward.cross(Vec3::Y).normalize();
+    let up = right.cross(forward);
+    let reach = 0.9 * (FOV.to_radians() * 0.5).tan();
+    let distance = (0..8)
+        .map(|k| {
+            let pick = |bit: usize, axis: usize| {
+                if k & bit == 0 {
+                    bounds.min[axis]
+                } else {
+                    bounds.max[axis]
+                }
+            };
+            let o = Vec3::new(pick(1, 0), pick(2, 1), pick(4, 2)) - center;
+            o.dot(right).abs().max(o.dot(up).abs()) / reach - o.dot(forward)
+        })
+        .fold(0.0f32, f32::max)
+        .max(1e-4 * (bounds.max - bounds.min).length());
+    CameraDesc {
+        kind: CameraKind::Perspective {
+            fov: FOV,
+            fov_axis: FovAxis::Y,
+            aperture_radius: 0.0,
+            focus_distance: None,
+        },
+        position: center + view_direction() * distance,
+        target: center,
+        up: Vec3::Y,
+        location: None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The camera frames the mesh: every corner of its bounds projects inside 90% of the
+    /// image (vertical field of view, any aspect of at least 1), and one touches that edge.
+    #[test]
+    fn the_camera_frames_the_bounds() {
+        for bounds in [
+            Aabb {
+                min: Vec3::new(-1.0, -1.0, -1.0),
+                max: Vec3::new(1.0, 1.0, 1.0),
+            },
+            Aabb {
+                min: Vec3::new(100.0, 5.0, -3.0),
+                max: Vec3::new(100.5, 5.01, -2.0),
+            },
+            Aabb {
+                min: Vec3::new(-0.1, 0.03, -0.06),
+                max: Vec3::new(0.06, 0.19, 0.06),
+            },
+        ] {
+            let cam = frame(bounds);
+            let forward = (cam.target - cam.position).normalize();
+            let right = forward.cross(cam.up).normalize();
+            let up = right.cross(forward);
+            let tan = (FOV.to_radians() * 0.5).tan();
+            let mut widest = 0.0f32;
+            for k in 0..8 {
+                let corner = Vec3::new(
+                    if k & 1 == 0 { bounds.min.x } else { bounds.max.x },
+                    if k & 2 == 0 { bounds.min.y } else { bounds.max.y },
+                    if k & 4 == 0 { bounds.min.z } else { bounds.max.z },
+                );
+                let d = corner - cam.position;
+                let z = d.dot(forward);
+                assert!(z > 0.0, "corner {corner} behind the camera");
+                let (x, y) = (d.dot(right) / (z * tan), d.dot(up) / (z * tan));
+                assert!(
+                    x.abs() <= 0.9001 && y.abs() <= 0.9001,
+                    "corner {corner} outside: {x} {y}"
+                );
+                widest = widest.max(x.abs()).max(y.abs());
+            }
+            assert!(widest > 0.899, "the bounds reach only {widest} of the frame");
+        }
+    }
+}
