@@ -16,4 +16,4 @@ mod params;
 pub use build::build_scene;
 pub use desc::SceneDesc;
 pub use error::{Location, SceneError, SourceFile};
-pub use formats::read_scene;
+pub use formats::{read_scene, read_scene_with};

@@ -4,6 +4,7 @@
 //! one arm in [`read_scene`].
 
 pub mod bare_mesh;
+pub mod mitsuba;
 pub mod native;
 pub mod obj;
 pub mod ply;
@@ -27,19 +28,29 @@ pub fn drop_degenerate(mesh: &mut TriangleMesh, what: &str) -> Option<String> {
 }
 
 /// Reads the scene file at `path`, choosing the reader by its extension: `.toml` the native
-/// format, `.obj` and `.ply` a bare mesh shown by a default camera and light
-/// ([`bare_mesh`]).
+/// format, `.xml` Mitsuba 3, `.obj` and `.ply` a bare mesh shown by a default camera and
+/// light ([`bare_mesh`]).
 pub fn read_scene(path: &Path) -> Result<SceneDesc, SceneError> {
+    read_scene_with(path, &[])
+}
+
+/// [`read_scene`] with parameters of the scene set as `-D name=value` sets them (Mitsuba's
+/// `$name`); an error for a format that takes none.
+pub fn read_scene_with(path: &Path, defines: &[(String, String)]) -> Result<SceneDesc, SceneError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if !defines.is_empty() && ext.as_deref() != Some("xml") {
+        return Err(SceneError::io(path, "-D sets parameters of Mitsuba (.xml) scenes only"));
+    }
     match ext.as_deref() {
         Some("toml") => {
             let text = std::fs::read_to_string(path).map_err(|e| SceneError::io(path, e))?;
             native::read(&SourceFile::new(path, text))
         }
+        Some("xml") => mitsuba::read(path, defines),
         Some("obj" | "ply") => bare_mesh::read(path),
         _ => Err(SceneError::io(
             path,
-            "unsupported scene format: expected a .toml scene file (the native format) or a bare .obj or .ply mesh",
+            "unsupported scene format: expected .toml (the native format), .xml (Mitsuba 3) or a bare .obj or .ply mesh",
         )),
     }
 }
