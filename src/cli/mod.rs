@@ -44,10 +44,13 @@ enum Command {
 /// Options of `penumbra render`; each overrides what the scene file says.
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Scene file: .toml (the native format), or a bare .obj or .ply mesh (shown by a default
-    /// camera framing it, a grey material, a sky and a key light); the built-in default scene
-    /// when omitted.
+    /// Scene file: .toml (the native format), .xml (Mitsuba 3), or a bare .obj or .ply mesh
+    /// (shown by a default camera framing it, a grey material, a sky and a key light); the
+    /// built-in default scene when omitted.
     pub scene: Option<PathBuf>,
+    /// Sets the Mitsuba scene parameter `$NAME` (overriding its `<default>`); repeatable.
+    #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
+    pub define: Vec<(String, String)>,
     /// Output image; the format follows the extension: .png (8-bit sRGB), .exr (linear
     /// 32-bit float), .pfm (linear 32-bit float).
     #[arg(short, long, default_value = "render.png")]
@@ -186,4 +189,13 @@ pub fn run(cli: Cli) -> Result<(), Failure> {
         Some(Command::Diff(args)) => diff::run(args),
         None => render::run(cli.render),
     }
+}
+
+/// `NAME=VALUE` of `-D`: a name of letters, digits and underscores.
+fn parse_define(s: &str) -> Result<(String, String), String> {
+    let (name, value) = s.split_once('=').ok_or("expected NAME=VALUE")?;
+    if name.is_empty() || !name.chars().all(|c| c.is_alphanumeric() || c == '_') {
+        return Err(format!("`{name}` is not a parameter name (letters, digits, _)"));
+    }
+    Ok((name.to_string(), value.to_string()))
 }

@@ -181,9 +181,14 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
     }
     let (mut desc, source) = match &args.scene {
         Some(path) => {
-            let desc = penumbra::scene::read_scene(path).map_err(|e| Failure::BadInput(e.into()))?;
+            let desc = penumbra::scene::read_scene_with(path, &args.define).map_err(|e| Failure::BadInput(e.into()))?;
             let source = std::fs::read(path).unwrap_or_default();
             (desc, source)
+        }
+        None if !args.define.is_empty() => {
+            return Err(bad(
+                "-D sets parameters of a Mitsuba (.xml) scene; no scene file was given".to_string(),
+            ))
         }
         None => (
             penumbra::default_scene(),
@@ -194,6 +199,9 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
     for warning in &desc.warnings {
         eprintln!("warning: {warning}");
     }
+    // Parameters set with -D change the scene as much as its text does.
+    let mut source = source;
+    source.extend(format!("{:?}", args.define).bytes());
     let print = fingerprint(args.scene.as_deref(), &source, &desc);
     let state_file = state_path(&args.output);
 

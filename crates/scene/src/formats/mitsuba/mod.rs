@@ -12,6 +12,8 @@ mod plugins;
 mod props;
 mod shapes;
 pub mod spectrum;
+#[cfg(test)]
+mod tests;
 
 use crate::{Location, SceneDesc, SceneError, SourceFile};
 use penumbra_render::{Material, Texture};

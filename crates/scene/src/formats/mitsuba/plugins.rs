@@ -8,7 +8,8 @@ use crate::image_input::read_input_image;
 use glam::Vec3;
 use penumbra_core::{Rgb, SamplerKind, Transform};
 use penumbra_render::cameras::FovAxis;
-use penumbra_render::integrators::{IntegratorKind, MAX_DEPTH_LIMIT};
+use penumbra_render::integrators::{IntegratorKind, LightSampling, MAX_DEPTH_LIMIT};
+use penumbra_render::lights::LightSelection;
 use penumbra_render::materials::{metal_ior, Roughness};
 use penumbra_render::texture::TextureImage;
 use penumbra_render::{Filter, Material, Texture};
@@ -92,6 +93,38 @@ pub fn integrator(r: &mut Reader, at: At) -> Result<()> {
     r.desc.render.integrator = integrator;
     let max_depth = depth(r, &p, "max_depth", MAX_DEPTH_LIMIT)?;
     let rr_depth = depth(r, &p, "rr_depth", penumbra_render::integrators::RR_DEPTH)?.max(1);
+    if integrator == IntegratorKind::Direct {
+        // Mitsuba's `direct`: `emitter_samples` shadow rays to emitters picked uniformly
+        // and `bsdf_samples` BSDF samples, combined by the power heuristic when both are
+        // taken.
+        let count = |name: &str| -> Result<u32> {
+            match p.int(r, name)? {
+                None => Ok(1),
+                Some(n) if (0..=1024).contains(&n) => Ok(n as u32),
+                Some(n) => Err(r.attr_error(
+                    p.get(name).expect("just read"),
+                    "value",
+                    format!("`{name}` must be from 0 to 1024, found {n}"),
+                )),
+            }
+        };
+        let (emitter, bsdf) = (count("emitter_samples")?, count("bsdf_samples")?);
+        let d = &mut r.desc.render.direct;
+        d.selection = LightSelection::Uniform;
+        d.light_samples = emitter.max(1);
+        d.sampling = match (emitter, bsdf) {
+            (0, 0) => return Err(at.error("`emitter_samples` and `bsdf_samples` are both 0: nothing is sampled")),
+            (0, _) => LightSampling::Bsdf,
+            (_, 0) => LightSampling::SolidAngle,
+            _ => LightSampling::Mis,
+        };
+        if bsdf > 1 && emitter > 0 {
+            r.warn_once(
+                "bsdf_samples",
+                format!("{}: `bsdf_samples` above 1 is read as 1", at.place()),
+            );
+        }
+    }
     let render = &mut r.desc.render;
     render.max_depth = max_depth;
     render.rr_depth = rr_depth;

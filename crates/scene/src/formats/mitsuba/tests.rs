@@ -1,0 +1,182 @@
+//! The Mitsuba reader on small scenes written here: parameters, includes, references,
+//! transforms, warnings, and errors that point at the file, line and column at fault.
+
+use super::read;
+use crate::desc::ShapeKind;
+use glam::Vec3;
+use penumbra_render::{Material, Texture};
+use std::path::Path;
+
+/// Writes `files` (name, text) into a fresh folder; returns it.
+fn folder(files: &[(&str, &str)]) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in files {
+        let p = dir.path().join(name);
+        std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+        std::fs::write(p, text).unwrap();
+    }
+    dir
+}
+
+const MAIN: &str = r#"<scene version="3.0.0">
+    <default name="w" value="32"/>
+    <include filename="parts/bsdfs.xml"/>
+    <sensor type="perspective">
+        <float name="fov" value="45"/>
+        <string name="fov_axis" value="y"/>
+        <transform name="to_world">
+            <lookat origin="0, 1, 5" target="0, 1, 0" up="0, 1, 0"/>
+        </transform>
+        <film type="hdrfilm">
+            <integer name="width" value="$w"/>
+            <integer name="height" value="24"/>
+            <rfilter type="box"/>
+        </film>
+        <sampler type="independent"><integer name="sample_count" value="9"/></sampler>
+    </sensor>
+    <integrator type="path"><integer name="max_depth" value="-1"/></integrator>
+    <shape type="rectangle">
+        <transform name="to_world">
+            <scale x="2"/>
+            <rotate x="1" angle="90"/>
+            <translate y="-1"/>
+        </transform>
+        <ref id="red"/>
+    </shape>
+    <shape type="sphere">
+        <point name="center" x="0" y="2" z="0"/>
+        <float name="radius" value="0.5"/>
+        <ref id="lamp"/>
+    </shape>
+    <emitter type="area" id="lamp"><rgb name="radiance" value="4, 5, 6"/></emitter>
+</scene>"#;
+
+const BSDFS: &str = r#"<scene version="3.0.0">
+    <bsdf type="twosided" id="red">
+        <bsdf type="diffuse"><rgb name="reflectance" value="0.5, 0.1, 0.1"/></bsdf>
+    </bsdf>
+</scene>"#;
+
+#[test]
+fn parameters_includes_references_and_transforms() {
+    let dir = folder(&[("main.xml", MAIN), ("parts/bsdfs.xml", BSDFS)]);
+    let main = dir.path().join("main.xml");
+    let desc = read(&main, &[]).unwrap();
+    assert_eq!((desc.render.width, desc.render.height, desc.render.spp), (32, 24, 9));
+    assert_eq!(desc.render.max_depth, penumbra_render::integrators::MAX_DEPTH_LIMIT);
+    assert!(matches!(desc.render.filter, penumbra_render::Filter::Box { .. }));
+    assert_eq!(desc.camera.position, Vec3::new(0.0, 1.0, 5.0));
+    assert!((desc.camera.target - desc.camera.position)
+        .normalize()
+        .abs_diff_eq(Vec3::NEG_Z, 1e-6));
+    // Scale x by 2, then a quarter turn about x (y -> z), then down by 1: the corner
+    // (1, 1, 0) goes to (2, 1, 0), then (2, 0, 1), then (2, -1, 1).
+    let rect = &desc.shapes[0];
+    assert!(matches!(rect.kind, ShapeKind::Mesh(_)));
+    assert!(rect
+        .transform
+        .point(Vec3::new(1.0, 1.0, 0.0))
+        .abs_diff_eq(Vec3::new(2.0, -1.0, 1.0), 1e-6));
+    let Material::TwoSided(inner) = &desc.materials[rect.material.unwrap()].material else {
+        panic!("twosided expected");
+    };
+    assert!(matches!(**inner, Material::Diffuse { reflectance: Texture::Constant(c) } if c.g == 0.1f32));
+    // A reference to an area emitter defined after the shape.
+    let sphere = &desc.shapes[1];
+    assert!(matches!(sphere.kind, ShapeKind::Sphere { radius, .. } if radius == 0.5));
+    assert_eq!(sphere.emission.unwrap().radiance.b, 6.0);
+    // -D overrides the default.
+    let desc = read(&main, &[("w".into(), "16".into())]).unwrap();
+    assert_eq!(desc.render.width, 16);
+}
+
+/// Where an error is: `file:line:column`.
+fn error_at(files: &[(&str, &str)]) -> String {
+    let dir = folder(files);
+    let err = read(&dir.path().join(files[0].0), &[]).expect_err("an error");
+    let location = err.location().map(|l| {
+        let (line, col) = l.file.line_col(l.span.start);
+        format!(
+            "{}:{line}:{col}",
+            Path::new(&l.file.path).file_name().unwrap().to_string_lossy()
+        )
+    });
+    format!("{} | {err}", location.unwrap_or_default())
+}
+
+#[test]
+fn errors_name_the_file_line_and_column() {
+    let bad_float = r#"<scene version="3.0.0">
+    <shape type="sphere">
+        <float name="radius" value="wide"/>
+    </shape>
+</scene>"#;
+    for (files, at, needle) in [
+        (vec![("a.xml", bad_float)], "a.xml:3:37", "expected a number"),
+        (
+            vec![("a.xml", "<scene version=\"3.0.0\">\n  <include filename=\"b.xml\"/>\n</scene>"), ("b.xml", bad_float)],
+            "b.xml:3:37",
+            "expected a number",
+        ),
+        (
+            vec![("a.xml", "<scene version=\"3.0.0\">\n <film type=\"hdrfilm\"/>\n <sensor type=\"perspective\">\n  <film type=\"hdrfilm\"><integer name=\"width\" value=\"$res\"/></film>\n </sensor>\n</scene>")],
+            "a.xml:4:53",
+            "`$res` is not defined",
+        ),
+        (
+            vec![("a.xml", "<scene version=\"3.0.0\">\n  <include filename=\"b.xml\"/>\n</scene>"), ("b.xml", "<scene version=\"3.0.0\">\n  <include filename=\"a.xml\"/>\n</scene>")],
+            "b.xml:2:22",
+            "includes itself",
+        ),
+        (
+            vec![("a.xml", "<scene version=\"3.0.0\">\n  <include filename=\"missing.xml\"/>\n</scene>")],
+            "a.xml:2:22",
+            "cannot read",
+        ),
+        (
+            vec![("a.xml", "<scene version=\"3.0.0\">\n  <shape type=\"cube\">\n    <ref id=\"nothing\"/>\n  </shape>\n</scene>")],
+            "a.xml:3:5",
+            "no bsdf or area emitter has the id `nothing`",
+        ),
+        (vec![("a.xml", "<scene>\n</scene>")], "a.xml:1:1", "needs a `version`"),
+        (vec![("a.xml", "<scene version=\"3.0.0\">\n  <shape type=\"cube\">\n</scene>")], "a.xml:3:1", "not well-formed"),
+        (
+            vec![("a.xml", "<scene version=\"3.0.0\">\n  <shape type=\"obj\">\n    <string name=\"filename\" value=\"none.obj\"/>\n  </shape>\n</scene>")],
+            "a.xml:3:36",
+            "none.obj",
+        ),
+        (
+            vec![("a.xml", "<scene version=\"3.0.0\">\n  <shape type=\"cube\">\n    <transform name=\"to_world\"><scale value=\"0\"/></transform>\n  </shape>\n</scene>")],
+            "a.xml:3:32",
+            "singular",
+        ),
+    ] {
+        let got = error_at(&files);
+        assert!(got.starts_with(at) && got.contains(needle), "expected {at} ... {needle}, got {got}");
+    }
+}
+
+#[test]
+fn unsupported_kinds_warn_once_each() {
+    let scene = r#"<scene version="3.0.0">
+    <shape type="serialized"/>
+    <shape type="serialized"/>
+    <shape type="cube"><float name="glow" value="1"/></shape>
+    <shape type="cube"><float name="glow" value="2"/></shape>
+    <medium type="homogeneous"/>
+    <integrator type="volpath"/>
+</scene>"#;
+    let dir = folder(&[("a.xml", scene)]);
+    let desc = read(&dir.path().join("a.xml"), &[]).unwrap();
+    let count = |needle: &str| desc.warnings.iter().filter(|w| w.contains(needle)).count();
+    assert_eq!(count("serialized"), 1, "{:?}", desc.warnings);
+    assert_eq!(count("`glow`"), 1, "{:?}", desc.warnings);
+    assert_eq!(count("media"), 1, "{:?}", desc.warnings);
+    assert_eq!(count("volpath"), 1, "{:?}", desc.warnings);
+    assert!(
+        desc.warnings.iter().all(|w| w.contains("a.xml:")),
+        "{:?}",
+        desc.warnings
+    );
+    assert_eq!(desc.shapes.len(), 2);
+}
