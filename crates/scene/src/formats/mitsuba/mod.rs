@@ -8,6 +8,8 @@
 //! included files too. A plugin or parameter we do not support is one warning per kind,
 //! saying what we do instead; only what leaves nothing meaningful to render is an error.
 
+mod bsdfs;
+mod emitters;
 mod plugins;
 mod props;
 mod shapes;
@@ -246,16 +248,16 @@ impl Reader {
                 }
             }
             "bsdf" => {
-                let material = plugins::bsdf(self, at)?;
+                let material = bsdfs::bsdf(self, at)?;
                 self.add_material(at, material)?;
             }
             "texture" => {
                 let id = self.require(at, "id")?;
-                let texture = plugins::texture(self, at, false)?;
+                let texture = bsdfs::texture(self, at, false)?;
                 self.textures.insert(id, texture);
             }
-            "shape" => plugins::shape(self, at)?,
-            "emitter" => plugins::emitter(self, at)?,
+            "shape" => shapes::shape(self, at)?,
+            "emitter" => emitters::emitter(self, at)?,
             "medium" | "phase" | "volume" => self.warn_once(
                 "media",
                 format!(

@@ -3,7 +3,7 @@
 //! by type, each error pointing at the value at fault.
 
 use super::spectrum::spectrum_to_rgb;
-use super::{plugins, At, Reader, Result};
+use super::{bsdfs, At, Reader, Result};
 use glam::{Mat4, Vec3};
 use penumbra_core::{Rgb, Transform};
 use penumbra_render::Texture;
@@ -132,7 +132,7 @@ impl<'a, 'input> Props<'a, 'input> {
             return Ok(Texture::Constant(Rgb::splat(default)));
         };
         match v.tag() {
-            "texture" => plugins::texture(r, v, data),
+            "texture" => bsdfs::texture(r, v, data),
             "ref" => {
                 let id = r.require(v, "id")?;
                 r.textures.get(&id).cloned().ok_or_else(|| {

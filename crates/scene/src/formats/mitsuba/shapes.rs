@@ -4,7 +4,7 @@
 //! with its `to_world`, its BSDF (nested or by reference; Mitsuba's grey `diffuse` when it
 //! has none) and an `area` emitter.
 
-use super::plugins::bsdf;
+use super::bsdfs::bsdf;
 use super::{warn_unused, At, Reader, Result};
 use crate::desc::{Emission, ShapeDesc, ShapeKind};
 use crate::formats::{drop_degenerate, obj, ply};
