@@ -101,6 +101,12 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
             "the camera's view direction is zero or parallel to its up vector",
         )
     })?;
+    let to_world = match c.mirrored {
+        true => Transform::scale(glam::Vec3::new(-1.0, 1.0, 1.0))
+            .expect("a mirror is invertible")
+            .then(to_world),
+        false => to_world,
+    };
     let camera = match c.kind {
         CameraKind::Perspective {
             fov,

@@ -71,6 +71,9 @@ pub struct CameraDesc {
     pub position: Vec3,
     pub target: Vec3,
     pub up: Vec3,
+    /// The image's x axis runs along up x forward instead of forward x up: the view of a
+    /// left-handed camera (pbrt's), whose image is the mirror of a right-handed one's.
+    pub mirrored: bool,
     pub location: Option<Location>,
 }
 
@@ -101,6 +104,7 @@ impl Default for CameraDesc {
             position: Vec3::new(0.0, 0.0, 5.0),
             target: Vec3::ZERO,
             up: Vec3::Y,
+            mirrored: false,
             location: None,
         }
     }

@@ -118,6 +118,7 @@ fn frame(bounds: Aabb) -> CameraDesc {
         position: center + view_direction() * distance,
         target: center,
         up: Vec3::Y,
+        mirrored: false,
         location: None,
     }
 }

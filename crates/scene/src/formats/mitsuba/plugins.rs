@@ -42,6 +42,7 @@ pub fn default_camera() -> CameraDesc {
         position: Vec3::ZERO,
         target: Vec3::Z,
         up: Vec3::Y,
+        mirrored: false,
         location: None,
     }
 }
@@ -188,16 +189,12 @@ pub fn sensor(r: &mut Reader, at: At) -> Result<()> {
     };
     p.float(r, "near_clip")?;
     p.float(r, "far_clip")?;
-    // Mitsuba's camera looks along +z with +y up, x to the left.
+    // Mitsuba's camera looks along +z with +y up and x to the left (up x dir); a transform
+    // whose x runs the other way mirrors the image.
     let position = to_world.point(Vec3::ZERO);
     let dir = to_world.vector(Vec3::Z);
     let up = to_world.vector(Vec3::Y);
-    if to_world.vector(Vec3::X).dot(up.cross(dir)) < 0.0 {
-        r.warn_once(
-            "mirrored sensor",
-            format!("{}: a mirrored sensor transform is rendered unmirrored", at.place()),
-        );
-    }
+    let mirrored = to_world.vector(Vec3::X).dot(up.cross(dir)) < 0.0;
     r.desc.camera = CameraDesc {
         kind: CameraKind::Perspective {
             fov,
@@ -208,6 +205,7 @@ pub fn sensor(r: &mut Reader, at: At) -> Result<()> {
         position,
         target: position + dir,
         up,
+        mirrored,
         location: Some(at.location()),
     };
     for film in p.nested("film") {

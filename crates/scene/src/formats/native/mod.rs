@@ -301,6 +301,7 @@ fn read_camera(t: &Table) -> Result<CameraDesc> {
         position,
         target,
         up,
+        mirrored: false,
         location: Some(t.location()),
     })
 }
