@@ -20,6 +20,7 @@ fn top_down_scene(y: f32, res: u32) -> SceneDesc {
         position: Vec3::new(0.0, y, 0.0),
         target: Vec3::ZERO,
         up: Vec3::NEG_Z,
+        mirrored: false,
         location: None,
     };
     d
