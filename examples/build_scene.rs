@@ -64,7 +64,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             transform,
             material,
             emission: None,
-            mirrored: false,
             location: None,
         })
     };
