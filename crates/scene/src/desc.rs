@@ -92,6 +92,26 @@ pub enum CameraKind {
     },
 }
 
+impl CameraDesc {
+    /// A camera at the origin of `to_world`, looking along its +z with its +y up, whose
+    /// image x runs along `right_sign` times its +x (pbrt's cameras: +1; Mitsuba's, whose x
+    /// points left: -1); mirrored where that is not forward x up.
+    pub fn from_frame(kind: CameraKind, to_world: &Transform, right_sign: f32, location: Option<Location>) -> Self {
+        let position = to_world.point(Vec3::ZERO);
+        let forward = to_world.vector(Vec3::Z);
+        let up = to_world.vector(Vec3::Y);
+        let mirrored = (to_world.vector(Vec3::X) * right_sign).dot(forward.cross(up)) < 0.0;
+        CameraDesc {
+            kind,
+            position,
+            target: position + forward,
+            up,
+            mirrored,
+            location,
+        }
+    }
+}
+
 impl Default for CameraDesc {
     fn default() -> Self {
         CameraDesc {

@@ -7,7 +7,10 @@ pub mod bare_mesh;
 pub mod mitsuba;
 pub mod native;
 pub mod obj;
+pub mod pbrt;
 pub mod ply;
+#[cfg(test)]
+mod test_files;
 
 use crate::{SceneDesc, SceneError, SourceFile};
 use penumbra_geometry::TriangleMesh;
@@ -27,9 +30,20 @@ pub fn drop_degenerate(mesh: &mut TriangleMesh, what: &str) -> Option<String> {
     }
 }
 
+/// The mesh facing the other way: reversed winding, negated normals (Mitsuba's
+/// `flip_normals`, pbrt's `ReverseOrientation`).
+pub fn flipped(mesh: &TriangleMesh) -> TriangleMesh {
+    TriangleMesh {
+        positions: mesh.positions.clone(),
+        normals: mesh.normals.as_ref().map(|n| n.iter().map(|&v| -v).collect()),
+        uvs: mesh.uvs.clone(),
+        indices: mesh.indices.iter().map(|&[a, b, c]| [a, c, b]).collect(),
+    }
+}
+
 /// Reads the scene file at `path`, choosing the reader by its extension: `.toml` the native
-/// format, `.xml` Mitsuba 3, `.obj` and `.ply` a bare mesh shown by a default camera and
-/// light ([`bare_mesh`]).
+/// format, `.xml` Mitsuba 3, `.pbrt` pbrt-v4, `.obj` and `.ply` a bare mesh shown by a
+/// default camera and light ([`bare_mesh`]).
 pub fn read_scene(path: &Path) -> Result<SceneDesc, SceneError> {
     read_scene_with(path, &[])
 }
@@ -47,10 +61,11 @@ pub fn read_scene_with(path: &Path, defines: &[(String, String)]) -> Result<Scen
             native::read(&SourceFile::new(path, text))
         }
         Some("xml") => mitsuba::read(path, defines),
+        Some("pbrt") => pbrt::read(path),
         Some("obj" | "ply") => bare_mesh::read(path),
         _ => Err(SceneError::io(
             path,
-            "unsupported scene format: expected .toml (the native format), .xml (Mitsuba 3) or a bare .obj or .ply mesh",
+            "unsupported scene format: expected .toml (the native format), .xml (Mitsuba 3), .pbrt (pbrt-v4) or a bare .obj or .ply mesh",
         )),
     }
 }

@@ -1,8 +1,8 @@
 //! Mitsuba 3 XML scenes (`version="3.x"`), read with `roxmltree`: `<default>` parameters
 //! and `$name` substitution (also set from the command line, `-D name=value`),
 //! `<include>`, ids and `<ref>`, transforms, and the shapes, BSDFs, textures, emitters,
-//! sensor, film, sampler and integrator of [`plugins`]. Spectra become linear sRGB as in
-//! Mitsuba's RGB variants ([`spectrum`]).
+//! sensor, film, sampler and integrator (`plugins.rs`, `bsdfs.rs`, `emitters.rs`,
+//! `shapes.rs`). Spectra become linear sRGB as in Mitsuba's RGB variants ([`spectrum`]).
 //!
 //! Every error names the file, line and column of the element or attribute at fault, in
 //! included files too. A plugin or parameter we do not support is one warning per kind,

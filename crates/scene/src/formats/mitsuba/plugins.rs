@@ -189,25 +189,14 @@ pub fn sensor(r: &mut Reader, at: At) -> Result<()> {
     };
     p.float(r, "near_clip")?;
     p.float(r, "far_clip")?;
-    // Mitsuba's camera looks along +z with +y up and x to the left (up x dir); a transform
-    // whose x runs the other way mirrors the image.
-    let position = to_world.point(Vec3::ZERO);
-    let dir = to_world.vector(Vec3::Z);
-    let up = to_world.vector(Vec3::Y);
-    let mirrored = to_world.vector(Vec3::X).dot(up.cross(dir)) < 0.0;
-    r.desc.camera = CameraDesc {
-        kind: CameraKind::Perspective {
-            fov,
-            fov_axis,
-            aperture_radius,
-            focus_distance,
-        },
-        position,
-        target: position + dir,
-        up,
-        mirrored,
-        location: Some(at.location()),
+    // Mitsuba's camera looks along +z with +y up and x to the left (up x dir).
+    let lens = CameraKind::Perspective {
+        fov,
+        fov_axis,
+        aperture_radius,
+        focus_distance,
     };
+    r.desc.camera = CameraDesc::from_frame(lens, &to_world, -1.0, Some(at.location()));
     for film in p.nested("film") {
         self::film(r, film)?;
     }

@@ -7,7 +7,7 @@
 use super::bsdfs::bsdf;
 use super::{warn_unused, At, Reader, Result};
 use crate::desc::{Emission, ShapeDesc, ShapeKind};
-use crate::formats::{drop_degenerate, obj, ply};
+use crate::formats::{drop_degenerate, flipped, obj, ply};
 use glam::{Vec2, Vec3};
 use penumbra_core::Rgb;
 use penumbra_geometry::TriangleMesh;
@@ -219,16 +219,6 @@ fn cylinder(p0: Vec3, p1: Vec3, radius: f32) -> Option<TriangleMesh> {
     mesh.normals = Some(normals);
     mesh.uvs = Some(uvs);
     Some(mesh)
-}
-
-/// The mesh facing the other way: reversed winding, negated normals.
-fn flipped(mesh: &TriangleMesh) -> TriangleMesh {
-    TriangleMesh {
-        positions: mesh.positions.clone(),
-        normals: mesh.normals.as_ref().map(|n| n.iter().map(|&v| -v).collect()),
-        uvs: mesh.uvs.clone(),
-        indices: mesh.indices.iter().map(|&[a, b, c]| [a, c, b]).collect(),
-    }
 }
 
 #[cfg(test)]

@@ -3,20 +3,9 @@
 
 use super::read;
 use crate::desc::ShapeKind;
+use crate::formats::test_files::{error_at, folder};
 use glam::Vec3;
 use penumbra_render::{Material, Texture};
-use std::path::Path;
-
-/// Writes `files` (name, text) into a fresh folder; returns it.
-fn folder(files: &[(&str, &str)]) -> tempfile::TempDir {
-    let dir = tempfile::tempdir().unwrap();
-    for (name, text) in files {
-        let p = dir.path().join(name);
-        std::fs::create_dir_all(p.parent().unwrap()).unwrap();
-        std::fs::write(p, text).unwrap();
-    }
-    dir
-}
 
 const MAIN: &str = r#"<scene version="3.0.0">
     <default name="w" value="32"/>
@@ -90,20 +79,6 @@ fn parameters_includes_references_and_transforms() {
     assert_eq!(desc.render.width, 16);
 }
 
-/// Where an error is: `file:line:column`.
-fn error_at(files: &[(&str, &str)]) -> String {
-    let dir = folder(files);
-    let err = read(&dir.path().join(files[0].0), &[]).expect_err("an error");
-    let location = err.location().map(|l| {
-        let (line, col) = l.file.line_col(l.span.start);
-        format!(
-            "{}:{line}:{col}",
-            Path::new(&l.file.path).file_name().unwrap().to_string_lossy()
-        )
-    });
-    format!("{} | {err}", location.unwrap_or_default())
-}
-
 #[test]
 fn errors_name_the_file_line_and_column() {
     let bad_float = r#"<scene version="3.0.0">
@@ -151,7 +126,7 @@ fn errors_name_the_file_line_and_column() {
             "singular",
         ),
     ] {
-        let got = error_at(&files);
+        let got = error_at(&files, |p| read(p, &[]));
         assert!(got.starts_with(at) && got.contains(needle), "expected {at} ... {needle}, got {got}");
     }
 }

@@ -1,0 +1,456 @@
+//! pbrt-v4's objects mapped onto Penumbra's: the camera and render settings, materials,
+//! textures, lights and shapes. What we lack is one warning per kind.
+
+use super::params::{ColorKind, Params};
+use super::{max_depth_limit, Reader, Result};
+use crate::desc::{CameraDesc, CameraKind, Emission, EnvironmentDesc, EnvironmentSource, LightDesc};
+use crate::{Location, SceneError, SourceFile};
+use glam::Vec3;
+use penumbra_core::{Rgb, SamplerKind, Transform};
+use penumbra_render::cameras::FovAxis;
+use penumbra_render::materials::{metal_ior, Roughness};
+use penumbra_render::texture::TextureImage;
+use penumbra_render::{Filter, Material, Texture};
+use std::sync::Arc;
+
+/// Parameters nobody read: one warning per directive type and name.
+pub(super) fn unused(r: &mut Reader, p: &Params, what: &str, here: &Location) {
+    for name in p.unused() {
+        r.warn(
+            &format!("{what}.{name}"),
+            format!("{here}: {what}: parameter `{name}` is not supported: ignored"),
+        );
+    }
+}
+
+/// Named spectra: pbrt's metals (`metal-Au-eta`, `metal-Au-k`, ... for the metals of our
+/// table) and glasses (by their index at 550 nm).
+fn named_spectrum(name: &str) -> Option<Rgb> {
+    if let Some(rest) = name.strip_prefix("metal-") {
+        let (metal, part) = rest.rsplit_once('-')?;
+        let (eta, k) = metal_ior(metal)?;
+        return match part {
+            "eta" => Some(eta),
+            "k" => Some(k),
+            _ => None,
+        };
+    }
+    let glass = [
+        ("glass-BK7", 1.5168),
+        ("glass-BAF10", 1.67),
+        ("glass-F11", 1.62),
+        ("glass-F5", 1.6034),
+        ("fused-silica", 1.4585),
+    ];
+    glass.iter().find(|g| g.0 == name).map(|g| Rgb::splat(g.1))
+}
+
+fn color(p: &Params, name: &str, kind: ColorKind) -> Result<Option<Rgb>> {
+    p.color(name, kind, &|s| named_spectrum(s).or_else(|| spectrum_file(&p.file, s)))
+}
+
+/// A spectrum from a file (`.spd`: wavelength and value pairs, `#` comments), relative to
+/// the folder of the file that names it.
+fn spectrum_file(file: &SourceFile, name: &str) -> Option<Rgb> {
+    let path = file.path.parent().unwrap_or(std::path::Path::new(".")).join(name);
+    let text = std::fs::read_to_string(path).ok()?;
+    let numbers: Vec<f64> = text
+        .lines()
+        .map(|l| l.split('#').next().unwrap_or(""))
+        .flat_map(str::split_whitespace)
+        .map(str::parse)
+        .collect::<std::result::Result<_, _>>()
+        .ok()?;
+    if numbers.len() < 4 || !numbers.len().is_multiple_of(2) {
+        return None;
+    }
+    let samples: Vec<(f64, f64)> = numbers.chunks(2).map(|c| (c[0], c[1])).collect();
+    samples
+        .windows(2)
+        .all(|w| w[0].0 < w[1].0)
+        .then(|| crate::formats::mitsuba::spectrum::spectrum_to_rgb(&samples))
+}
+
+/// A colour or a named texture; `default` when absent.
+fn texture_param(r: &Reader, p: &Params, name: &str, default: f32) -> Result<Texture> {
+    if let Some(t) = p.texture_name(name) {
+        return r.textures.get(&t).cloned().ok_or_else(|| {
+            let param = p.list.iter().rev().find(|x| x.name == name).expect("just found");
+            p.error(param, format!("no texture is named `{t}`"))
+        });
+    }
+    Ok(Texture::Constant(
+        color(p, name, ColorKind::Albedo)?.unwrap_or(Rgb::splat(default)),
+    ))
+}
+
+pub fn camera(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Result<()> {
+    if kind != "perspective" {
+        r.warn("camera", format!("{here}: camera `{kind}` is read as `perspective`"));
+    }
+    let world_from_camera = r.state.ctm.inverse();
+    r.named_coords.insert("camera".into(), world_from_camera);
+    let fov = p.float("fov", 90.0)?;
+    let lens = p.float("lensradius", 0.0)?;
+    let focus = p.float("focaldistance", 1e6)?;
+    let projection = CameraKind::Perspective {
+        fov,
+        fov_axis: FovAxis::Smaller,
+        aperture_radius: lens,
+        focus_distance: (lens > 0.0).then_some(focus),
+    };
+    // pbrt's image x runs along camera +x.
+    r.desc.camera = CameraDesc::from_frame(projection, &world_from_camera, 1.0, Some(here.clone()));
+    p.float("screenwindow", 0.0).ok();
+    unused(r, p, &format!("camera {kind}"), &here);
+    Ok(())
+}
+
+/// `Film`, `Sampler`, `PixelFilter`, `Integrator`.
+pub fn setting(r: &mut Reader, directive: &str, kind: &str, p: &Params, here: Location) -> Result<()> {
+    let what = format!("{directive} {kind}");
+    match directive {
+        "Film" => {
+            let size = |name: &str, default: i64| -> Result<u32> {
+                match p.int(name, default)? {
+                    n @ 1..=65536 => Ok(n as u32),
+                    n => Err(SceneError::at(
+                        here.clone(),
+                        format!("`{name}` must be from 1 to 65536, found {n}"),
+                    )),
+                }
+            };
+            r.desc.render.width = size("xresolution", 1280)?;
+            r.desc.render.height = size("yresolution", 720)?;
+            p.string("filename")?;
+        }
+        "Sampler" => {
+            r.desc.render.sampler = match kind {
+                "independent" => SamplerKind::Independent,
+                "stratified" => SamplerKind::Stratified,
+                "halton" => SamplerKind::Halton,
+                "sobol" | "zsobol" | "paddedsobol" | "pmj02bn" => SamplerKind::Sobol,
+                other => {
+                    r.warn("sampler", format!("{here}: sampler `{other}` is read as `sobol`"));
+                    SamplerKind::Sobol
+                }
+            };
+            let n = p.int("pixelsamples", 16)?;
+            if !(1..=1 << 24).contains(&n) {
+                return Err(SceneError::at(
+                    here,
+                    format!("pixelsamples must be from 1 to 16777216, found {n}"),
+                ));
+            }
+            r.desc.render.spp = n as u32;
+            p.int("seed", 0)?;
+        }
+        "PixelFilter" => {
+            let radius =
+                |default: f32| -> Result<f32> { Ok(p.float("xradius", default)?.max(p.float("yradius", default)?)) };
+            r.desc.render.filter = match kind {
+                "gaussian" => Filter::Gaussian {
+                    radius: radius(1.5)?,
+                    sigma: p.float("sigma", 0.5)?,
+                },
+                "box" => Filter::Box { radius: radius(0.5)? },
+                "triangle" => Filter::Tent { radius: radius(2.0)? },
+                other => {
+                    r.warn("filter", format!("{here}: filter `{other}` is read as `gaussian`"));
+                    Filter::Gaussian {
+                        radius: 1.5,
+                        sigma: 0.5,
+                    }
+                }
+            };
+        }
+        _ => {
+            if !matches!(kind, "path" | "volpath") {
+                r.warn(
+                    "integrator",
+                    format!("{here}: integrator `{kind}` is rendered with `path`"),
+                );
+            }
+            r.desc.render.integrator = penumbra_render::integrators::IntegratorKind::Path;
+            // pbrt counts scattering events; Mitsuba's depth (ours) counts segments.
+            let depth = p.int("maxdepth", 5)?;
+            r.desc.render.max_depth = (depth.max(0) as u64 + 1).min(max_depth_limit() as u64) as u32;
+            p.bool("regularize", false)?;
+        }
+    }
+    unused(r, p, &what, &here);
+    Ok(())
+}
+
+/// pbrt-v4's roughness: `roughness` or `uroughness`/`vroughness`, remapped to GGX alpha by
+/// sqrt when `remaproughness` (the default); `None` when smooth.
+fn roughness(p: &Params) -> Result<Option<Roughness>> {
+    let iso = p.float("roughness", 0.0)?;
+    let (u, v) = (p.float("uroughness", iso)?, p.float("vroughness", iso)?);
+    let remap = p.bool("remaproughness", true)?;
+    let alpha = |x: f32| if remap { x.max(0.0).sqrt() } else { x.max(0.0) };
+    let (au, av) = (alpha(u), alpha(v));
+    Ok((au > 0.0 || av > 0.0).then(|| Roughness {
+        alpha_u: Texture::Constant(Rgb::splat(au)),
+        alpha_v: Texture::Constant(Rgb::splat(av)),
+    }))
+}
+
+fn eta(p: &Params, default: f32) -> Result<f32> {
+    Ok(match color(p, "eta", ColorKind::Albedo)? {
+        Some(c) => c.g,
+        None => default,
+    })
+}
+
+/// The material of `Material` or `MakeNamedMaterial`; its index.
+pub fn material(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Result<usize> {
+    let m = match kind {
+        "diffuse" => Material::Diffuse {
+            reflectance: texture_param(r, p, "reflectance", 0.5)?,
+        },
+        "conductor" | "coatedconductor" => {
+            if kind == "coatedconductor" {
+                r.warn(
+                    "coatedconductor",
+                    format!("{here}: `coatedconductor` is rendered as its conductor, without the coating"),
+                );
+            }
+            let prefix = if kind == "coatedconductor" { "conductor." } else { "" };
+            let copper = metal_ior("Cu").expect("copper is in the table");
+            let eta = color(p, &format!("{prefix}eta"), ColorKind::Albedo)?.unwrap_or(copper.0);
+            let k = color(p, &format!("{prefix}k"), ColorKind::Albedo)?.unwrap_or(copper.1);
+            if color(p, "reflectance", ColorKind::Albedo)?.is_some() {
+                r.warn(
+                    "conductor.reflectance",
+                    format!("{here}: a conductor's `reflectance` is not supported: eta and k are used"),
+                );
+            }
+            let roughness = if kind == "coatedconductor" {
+                let au = p.float("conductor.roughness", 0.0)?;
+                (au > 0.0).then(|| Roughness::isotropic(au.sqrt()))
+            } else {
+                roughness(p)?
+            };
+            Material::Conductor {
+                eta,
+                k,
+                specular: Texture::Constant(Rgb::WHITE),
+                roughness,
+            }
+        }
+        "dielectric" | "thindielectric" => {
+            if kind == "thindielectric" {
+                r.warn(
+                    "thindielectric",
+                    format!("{here}: `thindielectric` is rendered as a `dielectric`"),
+                );
+            }
+            Material::Dielectric {
+                eta: eta(p, 1.5)?,
+                reflectance: Texture::Constant(Rgb::WHITE),
+                transmittance: Texture::Constant(Rgb::WHITE),
+                roughness: roughness(p)?,
+            }
+        }
+        "coateddiffuse" => {
+            p.float("thickness", 0.01)?;
+            Material::plastic(
+                texture_param(r, p, "reflectance", 0.5)?,
+                Texture::Constant(Rgb::WHITE),
+                eta(p, 1.5)?,
+                roughness(p)?,
+            )
+        }
+        "mix" => {
+            let names = p.strings("materials")?.unwrap_or_default();
+            if names.len() != 2 {
+                return Err(SceneError::at(
+                    here,
+                    "a `mix` material needs \"string materials\" with two names",
+                ));
+            }
+            let part = |n: &str| -> Result<Material> {
+                let i = r
+                    .named_materials
+                    .get(n)
+                    .ok_or_else(|| SceneError::at(here.clone(), format!("no material is named `{n}`")))?;
+                Ok(r.desc.materials[*i].material.clone())
+            };
+            Material::Blend {
+                a: Box::new(part(&names[0])?),
+                b: Box::new(part(&names[1])?),
+                weight: texture_param(r, p, "amount", 0.5)?,
+            }
+        }
+        other => {
+            r.warn(
+                &format!("material {other}"),
+                format!("{here}: material `{other}` is not supported: rendered as a grey diffuse"),
+            );
+            Material::Diffuse {
+                reflectance: Texture::Constant(Rgb::splat(0.5)),
+            }
+        }
+    };
+    // pbrt's BSDFs reflect on both sides of a surface (Mitsuba's and ours on the front).
+    let m = match m {
+        Material::Dielectric { .. } | Material::Blend { .. } => m,
+        m => Material::TwoSided(Box::new(m)),
+    };
+    p.string("type")?;
+    p.texture_name("displacement").is_some().then(|| {
+        r.warn(
+            "displacement",
+            format!("{here}: displacement is not supported: ignored"),
+        )
+    });
+    unused(r, p, &format!("material {kind}"), &here);
+    let index = r.desc.materials.len();
+    r.desc.materials.push(crate::desc::MaterialDesc {
+        name: format!("{kind} at {here}"),
+        material: m,
+    });
+    Ok(index)
+}
+
+pub fn texture(r: &mut Reader, class: &str, p: &Params, file: &SourceFile, here: Location) -> Result<Texture> {
+    let t = match class {
+        "imagemap" => {
+            let name = p
+                .string("filename")?
+                .ok_or_else(|| SceneError::at(here.clone(), "an imagemap needs a \"string filename\""))?;
+            let path = r.resolve(file, &name);
+            let srgb = p.string("encoding")?.is_none_or(|e| e == "sRGB");
+            let image = crate::image_input::read_input_image(&path, srgb).map_err(|e| {
+                SceneError::at(here.clone(), format!("cannot read the texture {}: {e}", path.display()))
+            })?;
+            if image.width == 0 || image.height == 0 || image.pixels.iter().any(|p| !p.is_finite()) {
+                return Err(SceneError::at(
+                    here,
+                    format!("the texture {} is empty or not finite", path.display()),
+                ));
+            }
+            Texture::Image {
+                image: Arc::new(TextureImage {
+                    width: image.width as usize,
+                    height: image.height as usize,
+                    pixels: image.pixels,
+                }),
+                scale: p.float("uscale", 1.0)?,
+            }
+        }
+        "checkerboard" => Texture::Checker {
+            even: color(p, "tex1", ColorKind::Albedo)?.unwrap_or(Rgb::WHITE),
+            odd: color(p, "tex2", ColorKind::Albedo)?.unwrap_or(Rgb::BLACK),
+            size: 1.0 / p.float("uscale", 1.0)?.max(1e-6),
+        },
+        "constant" => Texture::Constant(color(p, "value", ColorKind::Albedo)?.unwrap_or(Rgb::WHITE)),
+        other => {
+            r.warn(
+                &format!("texture {other}"),
+                format!("{here}: texture `{other}` is not supported: read as 0.5"),
+            );
+            Texture::Constant(Rgb::splat(0.5))
+        }
+    };
+    unused(r, p, &format!("texture {class}"), &here);
+    Ok(t)
+}
+
+/// A light's spectrum times `scale` (pbrt scales lights given as spectra to unit
+/// luminance first; `rgb` ones stay as given).
+fn emitted(p: &Params, name: &str) -> Result<Rgb> {
+    let c = color(p, name, ColorKind::Illuminant)?.unwrap_or(Rgb::WHITE);
+    Ok(c * p.float("scale", 1.0)?)
+}
+
+pub fn light(r: &mut Reader, kind: &str, p: &Params, file: &SourceFile, here: Location) -> Result<()> {
+    let ctm = r.state.ctm;
+    let point = |name: &str, default: Vec3| -> Result<Vec3> {
+        Ok(match p.points(name, 3)? {
+            Some(v) if v.len() == 1 => Vec3::new(v[0][0], v[0][1], v[0][2]),
+            _ => default,
+        })
+    };
+    match kind {
+        "point" => {
+            let position = ctm.point(point("from", Vec3::ZERO)?);
+            r.desc.lights.push(LightDesc::Point {
+                position,
+                intensity: emitted(p, "I")?,
+            });
+        }
+        "spot" => {
+            let (from, to) = (ctm.point(point("from", Vec3::ZERO)?), ctm.point(point("to", Vec3::Z)?));
+            let cone = p.float("coneangle", 30.0)?;
+            let delta = p.float("conedelta", 5.0)?;
+            r.desc.lights.push(LightDesc::Spot {
+                position: from,
+                target: to,
+                intensity: emitted(p, "I")?,
+                cone_angle: cone,
+                falloff_start: (cone - delta).clamp(0.0, cone),
+            });
+        }
+        "distant" => {
+            let direction = ctm.vector(point("to", Vec3::Z)? - point("from", Vec3::ZERO)?);
+            if direction.length_squared() == 0.0 {
+                return Err(SceneError::at(here, "a distant light needs `from` and `to` apart"));
+            }
+            r.desc.lights.push(LightDesc::Directional {
+                direction,
+                irradiance: emitted(p, "L")?,
+            });
+        }
+        "infinite" => {
+            if let Some(name) = p.string("filename")? {
+                let path = r.resolve(file, &name);
+                r.warn(
+                    "infinite map",
+                    format!("{here}: image infinite lights ({}) use pbrt's octahedral mapping, which we do not read: skipped", path.display()),
+                );
+                return Ok(());
+            }
+            if r.desc.environment.is_some() {
+                return Err(SceneError::at(here, "a second infinite light: the scene may have one"));
+            }
+            r.desc.environment = Some(EnvironmentDesc {
+                source: EnvironmentSource::Constant,
+                scale: emitted(p, "L")?,
+                transform: Transform::IDENTITY,
+                location: Some(here.clone()),
+            });
+        }
+        other => {
+            r.warn(
+                &format!("light {other}"),
+                format!("{here}: light `{other}` is not supported: skipped"),
+            );
+            return Ok(());
+        }
+    }
+    p.float("power", 0.0)?.ne(&0.0).then(|| {
+        r.warn(
+            "power",
+            format!("{here}: a light's `power` is not supported: its own value is used"),
+        )
+    });
+    unused(r, p, &format!("light {kind}"), &here);
+    Ok(())
+}
+
+pub fn area_light(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Result<Option<Emission>> {
+    if kind != "diffuse" {
+        r.warn(
+            "area light",
+            format!("{here}: area light `{kind}` is read as `diffuse`"),
+        );
+    }
+    let e = Emission {
+        radiance: emitted(p, "L")?,
+        two_sided: p.bool("twosided", false)?,
+    };
+    unused(r, p, &format!("area light {kind}"), &here);
+    Ok(Some(e))
+}
