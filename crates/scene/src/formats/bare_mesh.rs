@@ -1,22 +1,29 @@
 //! A bare mesh (`.obj` or `.ply`) as a scene: what a user who asks "what does my mesh look
-//! like?" expects to see. The mesh in a two-sided light grey diffuse material, under a white
+//! like?" expects to see. The mesh in its OBJ file's MTL materials ([`super::mtl`]) or a
+//! two-sided light grey diffuse material, under a white
 //! sky with a key light from the upper left behind the camera, seen from the front (+z, y
 //! up, the convention of both formats), a little from above and the right, by a camera
 //! that frames its bounding box; path traced, 64 samples per pixel, 800 x 600.
 //! Everything can be overridden from the command line (`--spp`, `--res`, `--max-depth`,
 //! `--integrator`).
 
-use super::{drop_degenerate, obj, ply};
-use crate::desc::{CameraDesc, CameraKind, EnvironmentDesc, EnvironmentSource, LightDesc, MaterialDesc, ShapeDesc};
+use super::{drop_degenerate, mtl, obj, ply};
+use crate::desc::{
+    CameraDesc, CameraKind, Emission, EnvironmentDesc, EnvironmentSource, LightDesc, MaterialDesc, ShapeDesc,
+};
 use crate::desc::{RenderDesc, ShapeKind};
 use crate::{SceneDesc, SceneError};
 use glam::Vec3;
 use penumbra_core::{Aabb, Rgb, Transform};
+use penumbra_geometry::TriangleMesh;
 use penumbra_render::cameras::FovAxis;
 use penumbra_render::integrators::IntegratorKind;
 use penumbra_render::{Material, Texture};
 use std::path::Path;
 use std::sync::Arc;
+
+/// A part's MTL material and emission.
+type Look = (Material, Option<Emission>);
 
 /// The camera's vertical field of view, degrees.
 const FOV: f32 = 35.0;
@@ -30,14 +37,32 @@ fn view_direction() -> Vec3 {
 /// Reads the mesh at `path` (`.obj` or `.ply`, by extension) into a scene that shows it.
 pub fn read(path: &Path) -> Result<SceneDesc, SceneError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    let loaded = match ext.as_deref() {
-        Some("obj") => obj::load(path),
-        _ => ply::load(path),
-    };
-    let mut mesh = loaded.map_err(|e| SceneError::io(path, e))?;
     let mut warnings = Vec::new();
-    warnings.extend(drop_degenerate(&mut mesh, &path.display().to_string()));
-    let bounds = mesh.positions.iter().fold(Aabb::EMPTY, |b, &p| b.grow(p));
+    // The mesh in parts, each with its MTL material and emission (OBJ), or whole (PLY).
+    let mut parts: Vec<(TriangleMesh, Option<Look>)> = Vec::new();
+    if ext.as_deref() == Some("obj") {
+        let obj = obj::load_parts(path).map_err(|e| SceneError::io(path, e))?;
+        if let Some(e) = &obj.mtl_error {
+            warnings.push(format!(
+                "{}: its material library cannot be read ({e}): grey is used",
+                path.display()
+            ));
+        }
+        let dir = path.parent().unwrap_or(Path::new("."));
+        for (mesh, id) in obj.parts {
+            let m = id
+                .and_then(|i| obj.materials.get(i))
+                .map(|m| mtl::material(m, dir, &mut |w| warnings.push(w)));
+            parts.push((mesh, m));
+        }
+    } else {
+        parts.push((ply::load(path).map_err(|e| SceneError::io(path, e))?, None));
+    }
+    let mut bounds = Aabb::EMPTY;
+    for (mesh, _) in &mut parts {
+        warnings.extend(drop_degenerate(mesh, &path.display().to_string()));
+        bounds = mesh.positions.iter().fold(bounds, |b, &p| b.grow(p));
+    }
     if !bounds.min.is_finite() || !bounds.max.is_finite() {
         return Err(SceneError::io(
             path,
@@ -54,19 +79,23 @@ pub fn read(path: &Path) -> Result<SceneDesc, SceneError> {
         ..RenderDesc::default()
     };
     desc.camera = frame(bounds);
-    desc.materials.push(MaterialDesc {
-        name: "grey".into(),
-        material: Material::TwoSided(Box::new(Material::Diffuse {
-            reflectance: Texture::Constant(Rgb::splat(0.7)),
-        })),
-    });
-    desc.shapes.push(ShapeDesc {
-        kind: ShapeKind::Mesh(Arc::new(mesh)),
-        transform: Transform::IDENTITY,
-        material: Some(0),
-        emission: None,
-        location: None,
-    });
+    let grey = Material::TwoSided(Box::new(Material::Diffuse {
+        reflectance: Texture::Constant(Rgb::splat(0.7)),
+    }));
+    for (mesh, m) in parts {
+        let (material, emission) = m.unwrap_or((grey.clone(), None));
+        desc.materials.push(MaterialDesc {
+            name: format!("material {}", desc.materials.len()),
+            material,
+        });
+        desc.shapes.push(ShapeDesc {
+            kind: ShapeKind::Mesh(Arc::new(mesh)),
+            transform: Transform::IDENTITY,
+            material: Some(desc.materials.len() - 1),
+            emission,
+            location: None,
+        });
+    }
     // A sky of radiance 0.3 and a key light of irradiance 1.5 from the upper left behind
     // the camera: the grey surface reads about 0.7 (0.3 + 1.5/pi) = 0.54 where it faces the
     // light, 0.21 or less where only the sky lights it.
@@ -126,6 +155,7 @@ fn frame(bounds: Aabb) -> CameraDesc {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use penumbra_render::Material;
 
     /// The camera frames the mesh: every corner of its bounds projects inside 90% of the
     /// image (vertical field of view, any aspect of at least 1), and one touches that edge.
@@ -169,5 +199,57 @@ mod tests {
             }
             assert!(widest > 0.899, "the bounds reach only {widest} of the frame");
         }
+    }
+
+    /// An OBJ with an MTL library: one shape per material, each mapped by its
+    /// illumination model, `Ke` emitting; a missing library is a warning and grey.
+    #[test]
+    fn obj_materials_come_from_the_mtl_library() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut obj = String::from("mtllib m.mtl\n");
+        for k in 0..4 {
+            let x = k as f32 * 2.0;
+            obj += &format!("v {x} 0 0\nv {} 0 0\nv {x} 1 0\n", x + 1.0);
+        }
+        for (k, name) in ["matte", "glossy", "glass", "lamp"].iter().enumerate() {
+            obj += &format!("usemtl {name}\nf {} {} {}\n", 3 * k + 1, 3 * k + 2, 3 * k + 3);
+        }
+        let mtl = "newmtl matte\nKd 0.2 0.4 0.6\nillum 1\n\
+                   newmtl glossy\nKd 0.5 0.5 0.5\nKs 0.3 0.3 0.3\nNs 98\nillum 2\n\
+                   newmtl glass\nNi 1.33\nd 0.4\nillum 4\n\
+                   newmtl lamp\nKd 0 0 0\nKe 5 4 3\n";
+        std::fs::write(dir.path().join("a.obj"), &obj).unwrap();
+        std::fs::write(dir.path().join("m.mtl"), mtl).unwrap();
+        let desc = read(&dir.path().join("a.obj")).unwrap();
+        assert_eq!(desc.shapes.len(), 4, "{:?}", desc.warnings);
+        let material = |k: usize| &desc.materials[desc.shapes[k].material.unwrap()].material;
+        let inner = |k: usize| match material(k) {
+            Material::TwoSided(m) => (**m).clone(),
+            m => m.clone(),
+        };
+        assert!(
+            matches!(inner(0), Material::Diffuse { reflectance: Texture::Constant(c) } if c == Rgb::new(0.2, 0.4, 0.6))
+        );
+        match inner(1) {
+            Material::Plastic { roughness: Some(r), .. } => {
+                // Ns 98: alpha = sqrt(2 / 100).
+                assert!(matches!(r.alpha_u, Texture::Constant(a) if (a.r - 0.02f32.sqrt()).abs() < 1e-6));
+            }
+            other => panic!("glossy: {other:?}"),
+        }
+        assert!(matches!(inner(2), Material::Dielectric { eta, .. } if eta == 1.33));
+        assert_eq!(
+            desc.shapes[3].emission.map(|e| e.radiance),
+            Some(Rgb::new(5.0, 4.0, 3.0))
+        );
+        assert!(desc.shapes[..3].iter().all(|s| s.emission.is_none()));
+        // Without its library: one warning, grey.
+        std::fs::remove_file(dir.path().join("m.mtl")).unwrap();
+        let desc = read(&dir.path().join("a.obj")).unwrap();
+        assert!(
+            desc.warnings.iter().any(|w| w.contains("material library")),
+            "{:?}",
+            desc.warnings
+        );
     }
 }

@@ -5,6 +5,7 @@
 
 pub mod bare_mesh;
 pub mod mitsuba;
+pub mod mtl;
 pub mod native;
 pub mod obj;
 pub mod pbrt;
