@@ -4,6 +4,8 @@
 //! one arm in [`read_scene`].
 
 pub mod bare_mesh;
+#[cfg(test)]
+mod fuzz_tests;
 pub mod mitsuba;
 pub mod mtl;
 pub mod native;
