@@ -3,8 +3,11 @@
 
 use crate::image_io::{read_image, OwnedImage};
 use penumbra_core::Rgb;
+use penumbra_render::texture::TextureImage;
+use penumbra_render::Texture;
 use std::io;
 use std::path::Path;
+use std::sync::Arc;
 
 /// The inverse of [`crate::image_io::srgb_encode`].
 pub fn srgb_decode(x: f32) -> f32 {
@@ -55,4 +58,30 @@ pub fn read_input_image(path: &Path, srgb: bool) -> io::Result<OwnedImage> {
             "unsupported image format: use .exr, .hdr, .pfm, .png, .jpg or .jpeg".into(),
         )),
     }
+}
+
+/// The image texture in the file at `path`, repeated every 1/`scale` texture units: read by
+/// [`read_input_image`], refused when it is empty or has a pixel that is not a finite
+/// number. The error names the file (every scene reader's textures come through here).
+pub fn image_texture(path: &Path, srgb: bool, scale: f32) -> Result<Texture, String> {
+    let image = read_input_image(path, srgb).map_err(|e| format!("cannot read the texture {}: {e}", path.display()))?;
+    if image.width == 0 || image.height == 0 {
+        return Err(format!("the texture {} is empty", path.display()));
+    }
+    if let Some(i) = image.pixels.iter().position(|p| !p.is_finite()) {
+        return Err(format!(
+            "the texture {} has a pixel that is not a finite number at ({}, {})",
+            path.display(),
+            i % image.width as usize,
+            i / image.width as usize
+        ));
+    }
+    Ok(Texture::Image {
+        image: Arc::new(TextureImage {
+            width: image.width as usize,
+            height: image.height as usize,
+            pixels: image.pixels,
+        }),
+        scale,
+    })
 }

@@ -17,6 +17,7 @@ mod test_files;
 
 use crate::{SceneDesc, SceneError, SourceFile};
 use penumbra_geometry::TriangleMesh;
+use penumbra_render::Material;
 use std::path::Path;
 
 /// Drops `mesh`'s triangles without area; returns a warning about `what` (the mesh's name
@@ -31,6 +32,18 @@ pub fn drop_degenerate(mesh: &mut TriangleMesh, what: &str) -> Option<String> {
         )),
         _ => Some(format!("{what}: skipped {dropped} of {total} triangles with zero area")),
     }
+}
+
+/// The index of the material shapes get when their file gives them none (Mitsuba's and
+/// pbrt's grey diffuse), added to `desc` the first time it is needed; `made` keeps it.
+pub fn default_material(desc: &mut SceneDesc, made: &mut Option<usize>, material: impl FnOnce() -> Material) -> usize {
+    *made.get_or_insert_with(|| {
+        desc.materials.push(crate::desc::MaterialDesc {
+            name: "default".into(),
+            material: material(),
+        });
+        desc.materials.len() - 1
+    })
 }
 
 /// The mesh facing the other way: reversed winding, negated normals (Mitsuba's

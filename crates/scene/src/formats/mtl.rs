@@ -12,13 +12,10 @@
 //! all two-sided, as OBJ viewers show them; `Ke` makes the surface emit.
 
 use crate::desc::Emission;
-use crate::image_input::read_input_image;
 use penumbra_core::Rgb;
 use penumbra_render::materials::Roughness;
-use penumbra_render::texture::TextureImage;
 use penumbra_render::{Material, Texture};
 use std::path::Path;
-use std::sync::Arc;
 
 fn rgb(c: Option<[f32; 3]>) -> Option<Rgb> {
     c.map(|[r, g, b]| Rgb::new(r, g, b))
@@ -33,37 +30,10 @@ pub fn material(m: &tobj::Material, dir: &Path, warn: &mut dyn FnMut(String)) ->
         .illumination_model
         .unwrap_or(if ks.max_component() > 0.0 { 2 } else { 1 });
     let diffuse = match &m.diffuse_texture {
-        Some(name) => {
-            let path = dir.join(name.trim());
-            match read_input_image(&path, true) {
-                Ok(img) if img.width > 0 && img.height > 0 && img.pixels.iter().all(|p| p.is_finite()) => {
-                    Texture::Image {
-                        image: Arc::new(TextureImage {
-                            width: img.width as usize,
-                            height: img.height as usize,
-                            pixels: img.pixels,
-                        }),
-                        scale: 1.0,
-                    }
-                }
-                Ok(_) => {
-                    warn(format!(
-                        "material `{}`: the texture {} is empty or not finite: Kd is used",
-                        m.name,
-                        path.display()
-                    ));
-                    Texture::Constant(kd)
-                }
-                Err(e) => {
-                    warn(format!(
-                        "material `{}`: cannot read the texture {}: {e}: Kd is used",
-                        m.name,
-                        path.display()
-                    ));
-                    Texture::Constant(kd)
-                }
-            }
-        }
+        Some(name) => crate::image_input::image_texture(&dir.join(name.trim()), true, 1.0).unwrap_or_else(|e| {
+            warn(format!("material `{}`: {e}: Kd is used", m.name));
+            Texture::Constant(kd)
+        }),
         None => Texture::Constant(kd),
     };
     let dissolve = m.dissolve.unwrap_or(1.0);

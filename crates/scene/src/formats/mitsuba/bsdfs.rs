@@ -2,12 +2,9 @@
 
 use super::props::Props;
 use super::{warn_unused, At, Reader, Result};
-use crate::image_input::read_input_image;
 use penumbra_core::Rgb;
 use penumbra_render::materials::{metal_ior, Roughness};
-use penumbra_render::texture::TextureImage;
 use penumbra_render::{Material, Texture};
-use std::sync::Arc;
 
 /// Named interior indices of refraction (Mitsuba's table, the common ones).
 fn ior(r: &Reader, p: &Props, name: &str, default: f32) -> Result<f32> {
@@ -214,25 +211,9 @@ pub fn texture(r: &mut Reader, at: At, data: bool) -> Result<Texture> {
                 .ok_or_else(|| at.error("a bitmap needs a `filename`"))?;
             let raw = p.bool_or(r, "raw", data)?;
             let path = r.resolve(v, &name);
-            let image = read_input_image(&path, !raw)
-                .map_err(|e| r.attr_error(v, "value", format!("cannot read the texture {}: {e}", path.display())))?;
-            if image.width == 0 || image.height == 0 || image.pixels.iter().any(|p| !p.is_finite()) {
-                return Err(r.attr_error(
-                    v,
-                    "value",
-                    format!("the texture {} is empty or not finite", path.display()),
-                ));
-            }
             p.string(r, "filter_type")?;
             p.string(r, "wrap_mode")?;
-            Texture::Image {
-                image: Arc::new(TextureImage {
-                    width: image.width as usize,
-                    height: image.height as usize,
-                    pixels: image.pixels,
-                }),
-                scale: uv_scale(r, &p)?,
-            }
+            crate::image_input::image_texture(&path, !raw, uv_scale(r, &p)?).map_err(|e| r.attr_error(v, "value", e))?
         }
         "checkerboard" => Texture::Checker {
             even: p.color_or(r, "color0", 0.4)?,

@@ -21,7 +21,7 @@ use crate::{Location, SceneDesc, SceneError, SourceFile};
 use penumbra_render::{Material, Texture};
 use props::Props;
 use roxmltree::Node;
-use std::collections::{BTreeSet, HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -35,12 +35,13 @@ pub fn read(path: &Path, defines: &[(String, String)]) -> Result<SceneDesc> {
         params: defines.iter().cloned().collect(),
         bsdfs: HashMap::new(),
         textures: HashMap::new(),
-        warned: BTreeSet::new(),
+        warned: BTreeMap::new(),
         stack: Vec::new(),
         seen_sensor: false,
         folders: vec![path.parent().unwrap_or(Path::new(".")).to_path_buf()],
         area_emitters: HashMap::new(),
         pending: Vec::new(),
+        default_material: None,
     };
     reader.desc.render = plugins::default_render();
     reader.desc.camera = plugins::default_camera();
@@ -52,7 +53,7 @@ pub fn read(path: &Path, defines: &[(String, String)]) -> Result<SceneDesc> {
             "the scene has no shape: the image shows only its lights and background",
         );
     }
-    reader.desc.warnings = reader.warned.into_iter().map(|(_, w)| w).collect();
+    reader.desc.warnings = reader.warned.into_values().collect();
     Ok(reader.desc)
 }
 
@@ -95,8 +96,8 @@ struct Reader {
     pub bsdfs: HashMap<String, usize>,
     /// Textures by id.
     pub textures: HashMap<String, Texture>,
-    /// One warning per kind: (kind, text), in kind order.
-    warned: BTreeSet<(String, String)>,
+    /// One warning per kind: kind -> text, in kind order.
+    warned: BTreeMap<String, String>,
     /// The files being read, for cyclic includes.
     stack: Vec<PathBuf>,
     seen_sensor: bool,
@@ -107,14 +108,14 @@ struct Reader {
     /// References of shapes to ids not defined yet (Mitsuba resolves them after reading
     /// the whole scene): shape index, id, where.
     pub pending: Vec<(usize, String, Location)>,
+    /// The grey diffuse of shapes without a BSDF, once made.
+    pub default_material: Option<usize>,
 }
 
 impl Reader {
     /// Warns once for `kind` (a plugin or parameter name), however often it comes.
     pub fn warn_once(&mut self, kind: &str, text: impl Into<String>) {
-        if !self.warned.iter().any(|(k, _)| k == kind) {
-            self.warned.insert((kind.to_string(), text.into()));
-        }
+        self.warned.entry(kind.to_string()).or_insert_with(|| text.into());
     }
 
     /// Attribute `name` of the element with `$parameters` substituted.

@@ -7,7 +7,7 @@
 use super::bsdfs::bsdf;
 use super::{warn_unused, At, Reader, Result};
 use crate::desc::{Emission, ShapeDesc, ShapeKind};
-use crate::formats::{drop_degenerate, flipped, obj, ply};
+use crate::formats::{default_material, drop_degenerate, flipped, obj, ply};
 use glam::{Vec2, Vec3};
 use penumbra_core::Rgb;
 use penumbra_geometry::TriangleMesh;
@@ -133,19 +133,11 @@ fn shape_material(r: &mut Reader, p: &super::props::Props, refs: &mut Vec<(Strin
     if let Some(m) = material {
         return Ok(m);
     }
-    const DEFAULT: &str = "\u{0}mitsuba default diffuse";
-    if let Some(&m) = r.bsdfs.get(DEFAULT) {
-        return Ok(m);
-    }
-    let index = r.desc.materials.len();
-    r.desc.materials.push(crate::desc::MaterialDesc {
-        name: "default diffuse".into(),
-        material: Material::Diffuse {
+    Ok(default_material(&mut r.desc, &mut r.default_material, || {
+        Material::Diffuse {
             reflectance: Texture::Constant(Rgb::splat(0.5)),
-        },
-    });
-    r.bsdfs.insert(DEFAULT.into(), index);
-    Ok(index)
+        }
+    }))
 }
 
 fn rectangle() -> TriangleMesh {

@@ -21,9 +21,7 @@ use crate::desc::MaterialDesc;
 use crate::params::{Result, Table, Value};
 use penumbra_core::Rgb;
 use penumbra_render::materials::{metal_ior, Phong, Roughness, METALS};
-use penumbra_render::texture::TextureImage;
 use penumbra_render::{Material, Texture};
-use std::sync::Arc;
 
 const TYPES: [&str; 6] = ["phong", "diffuse", "conductor", "dielectric", "plastic", "blend"];
 
@@ -261,27 +259,5 @@ fn image_texture_file(at: &Value, name: &str, scale: f32, srgb: bool) -> Result<
         .parent()
         .unwrap_or(std::path::Path::new("."))
         .join(name);
-    let image = crate::image_input::read_input_image(&path, srgb).map_err(|e| {
-        at.error(format!("cannot read the texture {}: {e}", path.display()))
-            .label("this texture")
-    })?;
-    if image.width == 0 || image.height == 0 {
-        return Err(at.error(format!("the texture {} is empty", path.display())));
-    }
-    if let Some(i) = image.pixels.iter().position(|p| !p.is_finite()) {
-        return Err(at.error(format!(
-            "the texture {} has a pixel that is not a finite number at ({}, {})",
-            path.display(),
-            i % image.width as usize,
-            i / image.width as usize
-        )));
-    }
-    Ok(Texture::Image {
-        image: Arc::new(TextureImage {
-            width: image.width as usize,
-            height: image.height as usize,
-            pixels: image.pixels,
-        }),
-        scale,
-    })
+    crate::image_input::image_texture(&path, srgb, scale).map_err(|e| at.error(e).label("this texture"))
 }

@@ -22,7 +22,7 @@ use glam::{Mat4, Vec3};
 use params::{Param, Params, Values};
 use penumbra_core::{SamplerKind, Transform};
 use penumbra_render::cameras::FovAxis;
-use penumbra_render::integrators::{IntegratorKind, MAX_DEPTH_LIMIT};
+use penumbra_render::integrators::IntegratorKind;
 use penumbra_render::{Filter, Texture};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -45,6 +45,7 @@ pub fn read(path: &Path) -> Result<SceneDesc> {
         object: None,
         files: Vec::new(),
         warned: BTreeMap::new(),
+        default_material: None,
     };
     r.desc.render = RenderDesc {
         width: 1280,
@@ -117,6 +118,8 @@ struct Reader {
     object: Option<(String, Vec<ShapeDesc>)>,
     files: Vec<PathBuf>,
     warned: BTreeMap<String, String>,
+    /// The grey diffuse of shapes without a material, once made.
+    default_material: Option<usize>,
 }
 
 /// A cursor over one file's tokens.
@@ -510,9 +513,4 @@ fn look_at(eye: Vec3, look: Vec3, up: Vec3) -> Option<Transform> {
     let new_up = dir.cross(right);
     let world_from_camera = Mat4::from_cols(right.extend(0.0), new_up.extend(0.0), dir.extend(0.0), eye.extend(1.0));
     Transform::from_matrix(world_from_camera).map(Transform::inverse)
-}
-
-/// The largest depth pbrt's `maxdepth` can become.
-const fn max_depth_limit() -> u32 {
-    MAX_DEPTH_LIMIT
 }

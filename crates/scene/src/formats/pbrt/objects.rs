@@ -2,16 +2,15 @@
 //! textures, lights and shapes. What we lack is one warning per kind.
 
 use super::params::{ColorKind, Params};
-use super::{max_depth_limit, Reader, Result};
+use super::{Reader, Result};
 use crate::desc::{CameraDesc, CameraKind, Emission, EnvironmentDesc, EnvironmentSource, LightDesc};
 use crate::{Location, SceneError, SourceFile};
 use glam::Vec3;
 use penumbra_core::{Rgb, SamplerKind, Transform};
 use penumbra_render::cameras::FovAxis;
+use penumbra_render::integrators::MAX_DEPTH_LIMIT;
 use penumbra_render::materials::{metal_ior, Roughness};
-use penumbra_render::texture::TextureImage;
 use penumbra_render::{Filter, Material, Texture};
-use std::sync::Arc;
 
 /// Parameters nobody read: one warning per directive type and name.
 pub(super) fn unused(r: &mut Reader, p: &Params, what: &str, here: &Location) {
@@ -101,7 +100,6 @@ pub fn camera(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Result<
     };
     // pbrt's image x runs along camera +x.
     r.desc.camera = CameraDesc::from_frame(projection, &world_from_camera, 1.0, Some(here.clone()));
-    p.float("screenwindow", 0.0).ok();
     unused(r, p, &format!("camera {kind}"), &here);
     Ok(())
 }
@@ -174,7 +172,7 @@ pub fn setting(r: &mut Reader, directive: &str, kind: &str, p: &Params, here: Lo
             r.desc.render.integrator = penumbra_render::integrators::IntegratorKind::Path;
             // pbrt counts scattering events; Mitsuba's depth (ours) counts segments.
             let depth = p.int("maxdepth", 5)?;
-            r.desc.render.max_depth = (depth.max(0) as u64 + 1).min(max_depth_limit() as u64) as u32;
+            r.desc.render.max_depth = (depth.max(0) as u64 + 1).min(MAX_DEPTH_LIMIT as u64) as u32;
             p.bool("regularize", false)?;
         }
     }
@@ -322,23 +320,8 @@ pub fn texture(r: &mut Reader, class: &str, p: &Params, file: &SourceFile, here:
                 .ok_or_else(|| SceneError::at(here.clone(), "an imagemap needs a \"string filename\""))?;
             let path = r.resolve(file, &name);
             let srgb = p.string("encoding")?.is_none_or(|e| e == "sRGB");
-            let image = crate::image_input::read_input_image(&path, srgb).map_err(|e| {
-                SceneError::at(here.clone(), format!("cannot read the texture {}: {e}", path.display()))
-            })?;
-            if image.width == 0 || image.height == 0 || image.pixels.iter().any(|p| !p.is_finite()) {
-                return Err(SceneError::at(
-                    here,
-                    format!("the texture {} is empty or not finite", path.display()),
-                ));
-            }
-            Texture::Image {
-                image: Arc::new(TextureImage {
-                    width: image.width as usize,
-                    height: image.height as usize,
-                    pixels: image.pixels,
-                }),
-                scale: p.float("uscale", 1.0)?,
-            }
+            crate::image_input::image_texture(&path, srgb, p.float("uscale", 1.0)?)
+                .map_err(|e| SceneError::at(here.clone(), e))?
         }
         "checkerboard" => Texture::Checker {
             even: color(p, "tex1", ColorKind::Albedo)?.unwrap_or(Rgb::WHITE),

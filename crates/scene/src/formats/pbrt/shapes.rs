@@ -6,7 +6,7 @@ use super::objects::unused;
 use super::params::Params;
 use super::{Reader, Result};
 use crate::desc::{ShapeDesc, ShapeKind};
-use crate::formats::{drop_degenerate, flipped, ply};
+use crate::formats::{default_material, drop_degenerate, flipped, ply};
 use crate::{Location, SceneError, SourceFile};
 use glam::{Vec2, Vec3};
 use penumbra_core::Rgb;
@@ -84,9 +84,14 @@ pub fn shape(r: &mut Reader, kind: &str, p: &Params, file: &SourceFile, here: Lo
         (ShapeKind::Mesh(m), true) => ShapeKind::Mesh(Arc::new(flipped(&m))),
         (k, _) => k,
     };
+    // pbrt's default material: a diffuse of 0.5 (two-sided, as pbrt's BSDFs are).
     let material = match r.state.material {
         Some(m) => m,
-        None => default_material(r),
+        None => default_material(&mut r.desc, &mut r.default_material, || {
+            Material::TwoSided(Box::new(Material::Diffuse {
+                reflectance: Texture::Constant(Rgb::splat(0.5)),
+            }))
+        }),
     };
     Ok(Some(ShapeDesc {
         kind: kind_of,
@@ -97,61 +102,37 @@ pub fn shape(r: &mut Reader, kind: &str, p: &Params, file: &SourceFile, here: Lo
     }))
 }
 
-/// pbrt's default material, a diffuse of 0.5, made once.
-fn default_material(r: &mut Reader) -> usize {
-    const NAME: &str = "\u{0}pbrt default";
-    if let Some(&m) = r.named_materials.get(NAME) {
-        return m;
-    }
-    r.desc.materials.push(crate::desc::MaterialDesc {
-        name: "default diffuse".into(),
-        material: Material::Diffuse {
-            reflectance: Texture::Constant(Rgb::splat(0.5)),
-        },
-    });
-    r.named_materials.insert(NAME.into(), r.desc.materials.len() - 1);
-    r.desc.materials.len() - 1
-}
-
-fn triangle_mesh(p: &Params, here: &Location) -> Result<TriangleMesh> {
+/// The points `P` of a mesh of `what` and its `indices` (optional for a single one of
+/// `corners` points).
+fn points_and_indices(p: &Params, here: &Location, what: &str, corners: usize) -> Result<(Vec<Vec3>, Vec<i64>)> {
     let positions: Vec<Vec3> = p
         .points("P", 3)?
-        .ok_or_else(|| SceneError::at(here.clone(), "a triangle mesh needs \"point3 P\""))?
+        .ok_or_else(|| SceneError::at(here.clone(), format!("a {what} needs \"point3 P\"")))?
         .iter()
         .map(|v| Vec3::new(v[0], v[1], v[2]))
         .collect();
     let indices = match p.ints("indices")? {
         Some(i) => i,
-        None if positions.len() == 3 => vec![0, 1, 2],
+        None if positions.len() == corners => (0..corners as i64).collect(),
         None => {
             return Err(SceneError::at(
                 here.clone(),
-                "a triangle mesh of more than 3 points needs \"integer indices\"",
+                format!("a {what} of more than {corners} points needs \"integer indices\""),
             ))
         }
     };
-    mesh_from(p, here, positions, &indices, 3)
+    Ok((positions, indices))
+}
+
+fn triangle_mesh(p: &Params, here: &Location) -> Result<TriangleMesh> {
+    let (positions, indices) = points_and_indices(p, here, "triangle mesh", 3)?;
+    mesh_from(p, here, positions, &indices)
 }
 
 /// Bilinear patches (four points each, in the order p00 p10 p01 p11), split into two
 /// triangles each.
 fn bilinear_mesh(p: &Params, here: &Location) -> Result<TriangleMesh> {
-    let positions: Vec<Vec3> = p
-        .points("P", 3)?
-        .ok_or_else(|| SceneError::at(here.clone(), "a bilinear mesh needs \"point3 P\""))?
-        .iter()
-        .map(|v| Vec3::new(v[0], v[1], v[2]))
-        .collect();
-    let quads = match p.ints("indices")? {
-        Some(i) => i,
-        None if positions.len() == 4 => vec![0, 1, 2, 3],
-        None => {
-            return Err(SceneError::at(
-                here.clone(),
-                "a bilinear mesh of more than 4 points needs \"integer indices\"",
-            ))
-        }
-    };
+    let (positions, quads) = points_and_indices(p, here, "bilinear mesh", 4)?;
     if quads.len() % 4 != 0 {
         return Err(SceneError::at(here.clone(), "a bilinear mesh's indices come in fours"));
     }
@@ -159,14 +140,14 @@ fn bilinear_mesh(p: &Params, here: &Location) -> Result<TriangleMesh> {
         .chunks(4)
         .flat_map(|q| [q[0], q[1], q[3], q[0], q[3], q[2]])
         .collect();
-    mesh_from(p, here, positions, &tris, 3)
+    mesh_from(p, here, positions, &tris)
 }
 
-fn mesh_from(p: &Params, here: &Location, positions: Vec<Vec3>, indices: &[i64], n: usize) -> Result<TriangleMesh> {
-    if !indices.len().is_multiple_of(n) {
+fn mesh_from(p: &Params, here: &Location, positions: Vec<Vec3>, indices: &[i64]) -> Result<TriangleMesh> {
+    if !indices.len().is_multiple_of(3) {
         return Err(SceneError::at(
             here.clone(),
-            format!("{} indices: not a multiple of {n}", indices.len()),
+            format!("{} indices: not a multiple of 3", indices.len()),
         ));
     }
     let count = positions.len();
