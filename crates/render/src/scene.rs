@@ -84,7 +84,7 @@ impl Scene {
     /// Radiance the surface `it` hit emits back along the ray.
     pub fn emitted(&self, it: &Interaction) -> Rgb {
         self.emitter_at(it).map_or(Rgb::BLACK, |(_, light)| {
-            light.le(light.emitter.normal_at(it.surface.p), it.wo)
+            light.le(it.surface.p, light.emitter.normal_at(it.surface.p), it.wo)
         })
     }
 

@@ -78,7 +78,7 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         };
         debug_assert_eq!(object as usize, object_materials.len());
         object_materials.push(s.material.map_or(default_material, |m| m as u32));
-        if let Some(emission) = s.emission {
+        if let Some(emission) = &s.emission {
             let area = area_lights(&s.kind, t, emission, &desc.meshes).map_err(|e| fail(&s.location, &e))?;
             emitters.push((object, area));
         }

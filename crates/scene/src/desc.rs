@@ -8,7 +8,7 @@ use penumbra_core::{Rgb, SamplerKind, Transform};
 use penumbra_geometry::{AccelKind, TriangleMesh};
 use penumbra_render::cameras::FovAxis;
 use penumbra_render::integrators::{DirectOptions, IntegratorKind};
-use penumbra_render::{Filter, Material};
+use penumbra_render::{Filter, Material, Texture};
 use std::sync::Arc;
 
 #[derive(Clone, Debug)]
@@ -148,11 +148,13 @@ pub struct ShapeDesc {
     pub location: Option<Location>,
 }
 
-/// Diffuse emission: constant radiance from the front side, or from both sides.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Diffuse emission: radiance from the front side, or from both sides; constant, or scaled
+/// by a texture over a mesh with texture coordinates.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Emission {
     pub radiance: Rgb,
     pub two_sided: bool,
+    pub texture: Option<Texture>,
 }
 
 #[derive(Clone, Debug)]

@@ -1,13 +1,14 @@
 //! Area lights from emitting shapes: each shape's world-space geometry as
 //! [`EmitterShape`]s, oriented so that the emitter's front is the side the shape's normal
-//! points to (transforms that mirror space included).
+//! points to (transforms that mirror space included). A textured emission needs a mesh
+//! with texture coordinates: each triangle's light carries its corners' coordinates.
 
 use crate::desc::{Emission, ShapeKind};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use penumbra_core::{Frame, Transform};
 use penumbra_geometry::TriangleMesh;
 use penumbra_render::lights::emitter::{Emitter, EmitterShape};
-use penumbra_render::lights::AreaLight;
+use penumbra_render::lights::{AreaLight, EmissionTexture};
 use std::sync::Arc;
 
 /// The area lights of a shape of `kind` placed by `t`: one for an analytic shape, one per
@@ -15,15 +16,21 @@ use std::sync::Arc;
 pub fn area_lights(
     kind: &ShapeKind,
     t: &Transform,
-    emission: Emission,
+    emission: &Emission,
     meshes: &[Arc<TriangleMesh>],
 ) -> Result<Vec<AreaLight>, String> {
-    let light = |shape: EmitterShape| -> Result<AreaLight, String> {
+    let light = |shape: EmitterShape, uvs: Option<[Vec2; 3]>| -> Result<AreaLight, String> {
         let emitter = Emitter::new(shape).ok_or("the emitting shape has no area (under its transform)")?;
+        let texture = match (&emission.texture, uvs) {
+            (Some(t), Some(uvs)) => Some(Box::new(EmissionTexture::new(t.clone(), uvs))),
+            (Some(_), None) => return Err("a textured emission needs a mesh with texture coordinates".into()),
+            (None, _) => None,
+        };
         Ok(AreaLight {
             emitter,
             radiance: emission.radiance,
             two_sided: emission.two_sided,
+            texture,
         })
     };
     // Orders two edges so that their cross product faces `front`.
@@ -31,20 +38,26 @@ pub fn area_lights(
     match kind {
         ShapeKind::Quad { corner, edge1, edge2 } => {
             let (e1, e2) = facing(t.vector(*edge1), t.vector(*edge2), t.normal(edge1.cross(*edge2)));
-            Ok(vec![light(EmitterShape::Quad {
-                corner: t.point(*corner),
-                e1,
-                e2,
-            })?])
+            Ok(vec![light(
+                EmitterShape::Quad {
+                    corner: t.point(*corner),
+                    e1,
+                    e2,
+                },
+                None,
+            )?])
         }
         ShapeKind::Disk { center, normal, radius } => {
             let f = Frame::from_normal(normal.try_normalize().ok_or("the disk's normal is zero")?);
             let (a1, a2) = facing(t.vector(f.s * *radius), t.vector(f.t * *radius), t.normal(f.n));
-            Ok(vec![light(EmitterShape::Disk {
-                center: t.point(*center),
-                a1,
-                a2,
-            })?])
+            Ok(vec![light(
+                EmitterShape::Disk {
+                    center: t.point(*center),
+                    a1,
+                    a2,
+                },
+                None,
+            )?])
         }
         ShapeKind::Sphere { center, radius } => {
             let axes = [Vec3::X, Vec3::Y, Vec3::Z].map(|a| t.vector(a * *radius));
@@ -56,10 +69,13 @@ pub fn area_lights(
             if !round {
                 return Err("an emitting sphere must stay a sphere: its transform stretches or shears it".into());
             }
-            Ok(vec![light(EmitterShape::Sphere {
-                center: t.point(*center),
-                radius: r,
-            })?])
+            Ok(vec![light(
+                EmitterShape::Sphere {
+                    center: t.point(*center),
+                    radius: r,
+                },
+                None,
+            )?])
         }
         ShapeKind::Mesh(mesh) => mesh_lights(&mesh.transformed(t), &light),
         ShapeKind::Instance { mesh } => mesh_lights(&meshes[*mesh].transformed(t), &light),
@@ -73,7 +89,7 @@ pub fn area_lights(
 /// (else its winding's side).
 fn mesh_lights(
     mesh: &TriangleMesh,
-    light: &dyn Fn(EmitterShape) -> Result<AreaLight, String>,
+    light: &dyn Fn(EmitterShape, Option<[Vec2; 3]>) -> Result<AreaLight, String>,
 ) -> Result<Vec<AreaLight>, String> {
     if mesh.indices.is_empty() {
         return Err("the emitting mesh has no triangles with area".into());
@@ -87,7 +103,15 @@ fn mesh_lights(
                 sum.dot(winding) < 0.0
             });
             let v = if flip { [v0, v2, v1] } else { [v0, v1, v2] };
-            light(EmitterShape::Triangle { v }).map_err(|_| format!("triangle {tri} of the emitting mesh has no area"))
+            let uvs = mesh.uvs.as_ref().map(|uvs| {
+                let [a, b, c] = mesh.indices[tri].map(|i| uvs[i as usize]);
+                if flip {
+                    [a, c, b]
+                } else {
+                    [a, b, c]
+                }
+            });
+            light(EmitterShape::Triangle { v }, uvs).map_err(|e| format!("triangle {tri} of the emitting mesh: {e}"))
         })
         .collect()
 }

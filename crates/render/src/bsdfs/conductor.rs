@@ -3,6 +3,9 @@
 //! f = F(wo·m) D(m) G2(wo, wi) / (4 cos θo cos θi) (Walter et al. 2007), sampled by visible
 //! normals (Heitz 2018), whose weight is F G2 / G1(wo). Single scattering only: rough
 //! metals lose the energy of light that would bounce between microfacets, never gain any.
+//! glTF's metals give their reflectance at normal incidence instead of an index: their F
+//! is Schlick's approximation (Schlick 1994, eq. 24), as the glTF 2.0 specification's
+//! appendix B defines it.
 
 use super::microfacet::Ggx;
 use super::{reflect_z, BsdfSample, SpecularRays};
@@ -10,10 +13,18 @@ use crate::optics::fresnel_conductor;
 use glam::{Vec2, Vec3};
 use penumbra_core::Rgb;
 
+/// How a metal's reflectance varies with the angle of incidence.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MetalFresnel {
+    /// The exact Fresnel equations for the complex index `eta + i k`.
+    Complex { eta: Rgb, k: Rgb },
+    /// Schlick's F0 + (1 - F0)(1 - cos)^5 with F0 the conductor's `specular` tint.
+    Schlick,
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Conductor {
-    pub eta: Rgb,
-    pub k: Rgb,
+    pub fresnel: MetalFresnel,
     /// A tint on the reflection (1 for physical metals).
     pub specular: Rgb,
     /// The microfacet distribution; `None` for a smooth mirror.
@@ -22,11 +33,19 @@ pub struct Conductor {
 
 impl Conductor {
     fn fresnel(&self, cos: f32) -> Rgb {
-        Rgb::new(
-            fresnel_conductor(cos, self.eta.r, self.k.r),
-            fresnel_conductor(cos, self.eta.g, self.k.g),
-            fresnel_conductor(cos, self.eta.b, self.k.b),
-        ) * self.specular
+        match self.fresnel {
+            MetalFresnel::Complex { eta, k } => {
+                Rgb::new(
+                    fresnel_conductor(cos, eta.r, k.r),
+                    fresnel_conductor(cos, eta.g, k.g),
+                    fresnel_conductor(cos, eta.b, k.b),
+                ) * self.specular
+            }
+            MetalFresnel::Schlick => {
+                let f0 = self.specular;
+                f0 + (Rgb::WHITE - f0) * (1.0 - cos.clamp(0.0, 1.0)).powi(5)
+            }
+        }
     }
 
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {

@@ -23,7 +23,7 @@ mod plastic;
 mod tests;
 
 pub use blend::Blend;
-pub use conductor::Conductor;
+pub use conductor::{Conductor, MetalFresnel};
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
 pub use phong::PhongBsdf;

@@ -26,8 +26,7 @@ fn view(theta_degrees: f32) -> Vec3 {
 fn cases() -> Vec<(String, Material, Vec<f32>)> {
     let (au_eta, au_k) = metal_ior("Au").unwrap();
     let conductor = |ax: f32, ay: f32| Material::Conductor {
-        eta: au_eta,
-        k: au_k,
+        fresnel: MetalFresnel::Complex { eta: au_eta, k: au_k },
         specular: grey(1.0),
         roughness: Some(Roughness {
             alpha_u: grey(ax),
@@ -237,8 +236,10 @@ fn rough_surfaces_lose_energy_but_never_gain_it() {
     // single-scattering microfacets lose the light that would bounce between facets, more
     // with roughness and at grazing views, never gain; smooth-ish ones lose almost none.
     let mirror_metal = |alpha: f32| Material::Conductor {
-        eta: Rgb::splat(1.0),
-        k: Rgb::splat(1e4),
+        fresnel: MetalFresnel::Complex {
+            eta: Rgb::splat(1.0),
+            k: Rgb::splat(1e4),
+        },
         specular: grey(1.0),
         roughness: rough(alpha),
     };
@@ -281,8 +282,7 @@ fn smooth_conductor_reflects_the_fresnel_colour_of_gold() {
     // At normal incidence F = ((η-1)² + k²)/((η+1)² + k²) per channel.
     let (eta, k) = metal_ior("Au").unwrap();
     let gold = Material::Conductor {
-        eta,
-        k,
+        fresnel: MetalFresnel::Complex { eta, k },
         specular: grey(1.0),
         roughness: None,
     };

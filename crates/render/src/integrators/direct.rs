@@ -312,7 +312,7 @@ impl Direct {
             return Rgb::BLACK;
         };
         let normal = light.emitter.normal_at(hit.surface.p);
-        let le = light.le(normal, -wi);
+        let le = light.le(hit.surface.p, normal, -wi);
         if le.is_black() {
             return Rgb::BLACK;
         }

@@ -225,7 +225,7 @@ impl PathTracer {
                 let it = &scene.interaction(&path.ray, &hit);
                 if let Some((index, light)) = scene.emitter_at(it) {
                     let normal = light.emitter.normal_at(it.surface.p);
-                    let le = light.le(normal, it.wo);
+                    let le = light.le(it.surface.p, normal, it.wo);
                     if !le.is_black() {
                         let weight = path.previous_pdf.map_or(1.0, |p_bsdf| {
                             let p = path.ray.origin;

@@ -7,7 +7,7 @@ use super::diffuse_lanes::{self, DiffuseHit, TriangleLight};
 use super::nee::{self, LightStrategy, Shading};
 use super::path::{PathState, PathTracer, Shadows};
 use super::{RayCounts, SHADOW_T_MAX};
-use crate::lights::{Light, LightSelection};
+use crate::lights::{AreaLight, Light, LightSelection};
 use crate::{Interaction, Material, Scene, Texture};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{F8, V3};
@@ -196,7 +196,8 @@ impl PathTracer {
         let picks: [_; 8] = std::array::from_fn(|j| scene.lights.pick(selection, u_pick[j]));
         let triangle = |j: usize| {
             let (index, p_pick) = picks[j]?;
-            let Light::Area(light) = &scene.lights.lights()[index as usize] else {
+            // Textured lights take the scalar light sample, which looks the texture up.
+            let Light::Area(light @ AreaLight { texture: None, .. }) = &scene.lights.lights()[index as usize] else {
                 return None;
             };
             let (v, normal, centroid) = light.emitter.triangle_parts()?;

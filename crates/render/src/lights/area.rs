@@ -1,5 +1,6 @@
 //! A diffuse area light: an [`Emitter`] surface that emits constant radiance from its front
-//! side (or both sides), seen by the camera and sampled by the integrators.
+//! side (or both sides), seen by the camera and sampled by the integrators; on a triangle
+//! the radiance may vary, scaled by a texture ([`EmissionTexture`], glTF's emissive maps).
 //!
 //! Native format: `emission = [r, g, b]` (radiance) and optionally `two_sided = true` on a
 //! quad, disk, sphere or mesh shape; a mesh emits from every triangle (one light each,
@@ -7,6 +8,7 @@
 
 use super::emitter::{Emitter, EmitterSample};
 use super::LightSample;
+use crate::Texture;
 use glam::{Vec2, Vec3};
 use penumbra_core::Rgb;
 use std::f32::consts::PI;
@@ -28,15 +30,57 @@ pub struct AreaLight {
     pub emitter: Emitter,
     pub radiance: Rgb,
     pub two_sided: bool,
+    /// Scales `radiance` over a triangle emitter; `None`: constant.
+    pub texture: Option<Box<EmissionTexture>>,
+}
+
+/// A texture over a triangle light: the radiance at a point is the light's radiance times
+/// the texture at the texture coordinates interpolated from the triangle's corners.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EmissionTexture {
+    pub texture: Texture,
+    /// At the emitter's three vertices, in its order.
+    pub uvs: [Vec2; 3],
+    /// The texture's mean luminance over the triangle (for the light's power).
+    mean: f32,
+}
+
+impl EmissionTexture {
+    /// Estimates the mean over the triangle from the texture at the 45 points of a
+    /// barycentric lattice of step 1/8 (it only weighs the choice of lights, so an estimate
+    /// costs variance, never bias).
+    pub fn new(texture: Texture, uvs: [Vec2; 3]) -> Self {
+        const K: usize = 8;
+        let (mut sum, mut n) = (0.0, 0);
+        for i in 0..=K {
+            for j in 0..=K - i {
+                let (b1, b2) = (i as f32 / K as f32, j as f32 / K as f32);
+                let uv = uvs[0] * (1.0 - b1 - b2) + uvs[1] * b1 + uvs[2] * b2;
+                sum += texture.eval(uv).luminance().max(0.0);
+                n += 1;
+            }
+        }
+        EmissionTexture {
+            texture,
+            uvs,
+            mean: sum / n as f32,
+        }
+    }
 }
 
 impl AreaLight {
-    /// Radiance leaving the point of normal `normal` in direction `w`.
-    pub fn le(&self, normal: Vec3, w: Vec3) -> Rgb {
-        if self.two_sided || normal.dot(w) > 0.0 {
-            self.radiance
-        } else {
-            Rgb::BLACK
+    /// Radiance leaving the point `point`, of normal `normal`, in direction `w`.
+    pub fn le(&self, point: Vec3, normal: Vec3, w: Vec3) -> Rgb {
+        if !(self.two_sided || normal.dot(w) > 0.0) {
+            return Rgb::BLACK;
+        }
+        match (&self.texture, self.emitter.triangle_parts()) {
+            (Some(t), Some((v, _, _))) => {
+                let (b1, b2) = barycentric(v, point);
+                let uv = t.uvs[0] * (1.0 - b1 - b2) + t.uvs[1] * b1 + t.uvs[2] * b2;
+                self.radiance * t.texture.eval(uv)
+            }
+            _ => self.radiance,
         }
     }
 
@@ -58,7 +102,7 @@ impl AreaLight {
         let wi = d / dist;
         Some(LightSample {
             wi,
-            li: self.le(s.normal, -wi),
+            li: self.le(s.point, s.normal, -wi),
             dist,
             pdf: s.pdf,
             delta: false,
@@ -86,6 +130,20 @@ impl AreaLight {
     /// Emitted power (luminance): π L A per emitting side.
     pub fn power(&self) -> f32 {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
-        sides * PI * self.emitter.area() * self.radiance.luminance()
+        let texture = self.texture.as_ref().map_or(1.0, |t| t.mean);
+        sides * PI * self.emitter.area() * self.radiance.luminance() * texture
     }
+}
+
+/// The barycentric coordinates (b1, b2) of `p`'s projection onto the plane of triangle `v`
+/// (p = (1 - b1 - b2) v0 + b1 v1 + b2 v2).
+fn barycentric(v: [Vec3; 3], p: Vec3) -> (f32, f32) {
+    let (e1, e2, d) = (v[1] - v[0], v[2] - v[0], p - v[0]);
+    let (d00, d01, d11) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+    let (d20, d21) = (d.dot(e1), d.dot(e2));
+    let den = d00 * d11 - d01 * d01;
+    if den <= 0.0 {
+        return (0.0, 0.0);
+    }
+    ((d11 * d20 - d01 * d21) / den, (d00 * d21 - d01 * d20) / den)
 }

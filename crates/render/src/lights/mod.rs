@@ -16,7 +16,7 @@ mod point;
 mod set;
 mod spot;
 
-pub use area::{AreaLight, AreaSampling};
+pub use area::{AreaLight, AreaSampling, EmissionTexture};
 pub use directional::Directional;
 pub use environment::Environment;
 pub use point::Point;

@@ -11,7 +11,7 @@ pub use metals::{metal_ior, METALS};
 pub use phong::Phong;
 
 use crate::bsdfs::microfacet::Ggx;
-use crate::bsdfs::{Blend, Bsdf, BsdfKind, Conductor, Dielectric, Diffuse, Plastic};
+use crate::bsdfs::{Blend, Bsdf, BsdfKind, Conductor, Dielectric, Diffuse, MetalFresnel, Plastic};
 use crate::optics::fresnel_diffuse_reflectance;
 use crate::Texture;
 use glam::{Vec2, Vec3};
@@ -47,10 +47,10 @@ pub enum Material {
     Phong(Phong),
     /// Lambertian reflection.
     Diffuse { reflectance: Texture },
-    /// A metal of complex index `eta + i k`, smooth or rough (GGX).
+    /// A metal, smooth or rough (GGX): of complex index `eta + i k`, or of reflectance
+    /// `specular` at normal incidence (Schlick).
     Conductor {
-        eta: Rgb,
-        k: Rgb,
+        fresnel: MetalFresnel,
         specular: Texture,
         roughness: Option<Roughness>,
     },
@@ -128,13 +128,11 @@ impl Material {
                 reflectance: reflectance.eval(uv),
             }),
             Material::Conductor {
-                eta,
-                k,
+                fresnel,
                 specular,
                 roughness,
             } => BsdfKind::Conductor(Conductor {
-                eta: *eta,
-                k: *k,
+                fresnel: *fresnel,
                 specular: specular.eval(uv),
                 alpha: rough(roughness),
             }),

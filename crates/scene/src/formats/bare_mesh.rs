@@ -96,9 +96,16 @@ pub fn read(path: &Path) -> Result<SceneDesc, SceneError> {
             location: None,
         });
     }
-    // A sky of radiance 0.3 and a key light of irradiance 1.5 from the upper left behind
-    // the camera: the grey surface reads about 0.7 (0.3 + 1.5/pi) = 0.54 where it faces the
-    // light, 0.21 or less where only the sky lights it.
+    default_lighting(&mut desc);
+    desc.warnings = warnings;
+    Ok(desc)
+}
+
+/// A sky of radiance 0.3 and a key light of irradiance 1.5 from the upper left behind the
+/// camera of [`frame`]: a grey surface of albedo 0.7 reads about 0.7 (0.3 + 1.5/pi) = 0.54
+/// where it faces the light, 0.21 or less where only the sky lights it. (Also the lighting
+/// of a glTF scene without lights.)
+pub(crate) fn default_lighting(desc: &mut SceneDesc) {
     desc.environment = Some(EnvironmentDesc {
         source: EnvironmentSource::Constant,
         scale: Rgb::splat(0.3),
@@ -110,14 +117,12 @@ pub fn read(path: &Path) -> Result<SceneDesc, SceneError> {
         direction: -(view_direction() - right * 0.8 + Vec3::Y * 0.6).normalize(),
         irradiance: Rgb::splat(1.5),
     });
-    desc.warnings = warnings;
-    Ok(desc)
 }
 
 /// A camera looking at the centre of `bounds` along [`view_direction`], as near as it can
 /// be with every corner of the bounds inside 90% of the frame's height and of its width
 /// (for any image at least as wide as it is high).
-fn frame(bounds: Aabb) -> CameraDesc {
+pub(crate) fn frame(bounds: Aabb) -> CameraDesc {
     let center = (bounds.min + bounds.max) * 0.5;
     let forward = -view_direction();
     let right = forward.cross(Vec3::Y).normalize();

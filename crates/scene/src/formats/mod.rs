@@ -6,6 +6,7 @@
 pub mod bare_mesh;
 #[cfg(test)]
 mod fuzz_tests;
+pub mod gltf;
 pub mod mitsuba;
 pub mod mtl;
 pub mod native;
@@ -58,7 +59,7 @@ pub fn flipped(mesh: &TriangleMesh) -> TriangleMesh {
 }
 
 /// Reads the scene file at `path`, choosing the reader by its extension: `.toml` the native
-/// format, `.xml` Mitsuba 3, `.pbrt` pbrt-v4, `.obj` and `.ply` a bare mesh shown by a
+/// format, `.xml` Mitsuba 3, `.pbrt` pbrt-v4, `.gltf` and `.glb` glTF 2.0, `.obj` and `.ply` a bare mesh shown by a
 /// default camera and light ([`bare_mesh`]).
 pub fn read_scene(path: &Path) -> Result<SceneDesc, SceneError> {
     read_scene_with(path, &[])
@@ -78,10 +79,11 @@ pub fn read_scene_with(path: &Path, defines: &[(String, String)]) -> Result<Scen
         }
         Some("xml") => mitsuba::read(path, defines),
         Some("pbrt") => pbrt::read(path),
+        Some("gltf" | "glb") => gltf::read(path),
         Some("obj" | "ply") => bare_mesh::read(path),
         _ => Err(SceneError::io(
             path,
-            "unsupported scene format: expected .toml (the native format), .xml (Mitsuba 3), .pbrt (pbrt-v4) or a bare .obj or .ply mesh",
+            "unsupported scene format: expected .toml (the native format), .xml (Mitsuba 3), .pbrt (pbrt-v4), .gltf or .glb (glTF 2.0) or a bare .obj or .ply mesh",
         )),
     }
 }

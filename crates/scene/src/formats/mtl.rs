@@ -13,6 +13,7 @@
 
 use crate::desc::Emission;
 use penumbra_core::Rgb;
+use penumbra_render::bsdfs::MetalFresnel;
 use penumbra_render::materials::Roughness;
 use penumbra_render::{Material, Texture};
 use std::path::Path;
@@ -47,8 +48,10 @@ pub fn material(m: &tobj::Material, dir: &Path, warn: &mut dyn FnMut(String)) ->
         }
     } else if matches!(illum, 3 | 5 | 8) {
         Material::TwoSided(Box::new(Material::Conductor {
-            eta: Rgb::BLACK,
-            k: Rgb::WHITE,
+            fresnel: MetalFresnel::Complex {
+                eta: Rgb::BLACK,
+                k: Rgb::WHITE,
+            },
             specular: Texture::Constant(if ks.max_component() > 0.0 { ks } else { Rgb::WHITE }),
             roughness: None,
         }))
@@ -68,6 +71,7 @@ pub fn material(m: &tobj::Material, dir: &Path, warn: &mut dyn FnMut(String)) ->
     let emission = ke.filter(|e| e.max_component() > 0.0).map(|radiance| Emission {
         radiance,
         two_sided: true,
+        texture: None,
     });
     (material, emission)
 }

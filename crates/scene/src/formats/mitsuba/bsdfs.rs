@@ -3,6 +3,7 @@
 use super::props::Props;
 use super::{warn_unused, At, Reader, Result};
 use penumbra_core::Rgb;
+use penumbra_render::bsdfs::MetalFresnel;
 use penumbra_render::materials::{metal_ior, Roughness};
 use penumbra_render::{Material, Texture};
 
@@ -93,8 +94,7 @@ pub fn bsdf(r: &mut Reader, at: At) -> Result<Material> {
                 },
             };
             Material::Conductor {
-                eta,
-                k,
+                fresnel: MetalFresnel::Complex { eta, k },
                 specular: p.texture(r, "specular_reflectance", 1.0, false)?,
                 roughness: (kind == "roughconductor")
                     .then(|| roughness(r, &p, &what))

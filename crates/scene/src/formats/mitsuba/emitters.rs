@@ -78,6 +78,7 @@ pub fn emitter(r: &mut Reader, at: At) -> Result<()> {
                 Emission {
                     radiance,
                     two_sided: false,
+                    texture: None,
                 },
             );
         }

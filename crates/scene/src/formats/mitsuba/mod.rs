@@ -303,7 +303,7 @@ impl Reader {
         for (shape, id, location) in std::mem::take(&mut self.pending) {
             if let Some(&m) = self.bsdfs.get(&id) {
                 self.desc.shapes[shape].material = Some(m);
-            } else if let Some(&e) = self.area_emitters.get(&id) {
+            } else if let Some(e) = self.area_emitters.get(&id).cloned() {
                 self.desc.shapes[shape].emission = Some(e);
             } else {
                 return Err(SceneError::at(

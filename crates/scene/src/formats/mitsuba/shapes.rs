@@ -91,6 +91,7 @@ pub fn shape(r: &mut Reader, at: At) -> Result<()> {
                 emission = Some(Emission {
                     radiance,
                     two_sided: false,
+                    texture: None,
                 });
                 warn_unused(r, &ep, "emitter area");
             }
@@ -100,7 +101,7 @@ pub fn shape(r: &mut Reader, at: At) -> Result<()> {
     warn_unused(r, &p, &format!("shape {kind}"));
     for (id, location) in pending {
         match r.area_emitters.get(&id) {
-            Some(&e) => emission = Some(e),
+            Some(e) => emission = Some(e.clone()),
             None => r.pending.push((r.desc.shapes.len(), id, location)),
         }
     }

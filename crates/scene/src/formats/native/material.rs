@@ -20,6 +20,7 @@ use super::choice;
 use crate::desc::MaterialDesc;
 use crate::params::{Result, Table, Value};
 use penumbra_core::Rgb;
+use penumbra_render::bsdfs::MetalFresnel;
 use penumbra_render::materials::{metal_ior, Phong, Roughness, METALS};
 use penumbra_render::{Material, Texture};
 
@@ -124,8 +125,7 @@ fn read_conductor(t: &Table) -> Result<Material> {
         }
     };
     Ok(Material::Conductor {
-        eta,
-        k,
+        fresnel: MetalFresnel::Complex { eta, k },
         specular: texture_or(t, "specular", 1.0)?,
         roughness: roughness(t, true)?,
     })

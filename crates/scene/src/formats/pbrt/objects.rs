@@ -7,6 +7,7 @@ use crate::desc::{CameraDesc, CameraKind, Emission, EnvironmentDesc, Environment
 use crate::{Location, SceneError, SourceFile};
 use glam::Vec3;
 use penumbra_core::{Rgb, SamplerKind, Transform};
+use penumbra_render::bsdfs::MetalFresnel;
 use penumbra_render::cameras::FovAxis;
 use penumbra_render::integrators::MAX_DEPTH_LIMIT;
 use penumbra_render::materials::{metal_ior, Roughness};
@@ -231,8 +232,7 @@ pub fn material(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Resul
                 roughness(p)?
             };
             Material::Conductor {
-                eta,
-                k,
+                fresnel: MetalFresnel::Complex { eta, k },
                 specular: Texture::Constant(Rgb::WHITE),
                 roughness,
             }
@@ -433,6 +433,7 @@ pub fn area_light(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Res
     let e = Emission {
         radiance: emitted(p, "L")?,
         two_sided: p.bool("twosided", false)?,
+        texture: None,
     };
     unused(r, p, &format!("area light {kind}"), &here);
     Ok(Some(e))

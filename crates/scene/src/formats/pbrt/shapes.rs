@@ -97,7 +97,7 @@ pub fn shape(r: &mut Reader, kind: &str, p: &Params, file: &SourceFile, here: Lo
         kind: kind_of,
         transform: r.state.ctm,
         material: Some(material),
-        emission: r.state.area,
+        emission: r.state.area.clone(),
         location: Some(here),
     }))
 }
