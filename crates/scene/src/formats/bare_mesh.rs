@@ -244,7 +244,7 @@ mod tests {
         }
         assert!(matches!(inner(2), Material::Dielectric { eta, .. } if eta == 1.33));
         assert_eq!(
-            desc.shapes[3].emission.map(|e| e.radiance),
+            desc.shapes[3].emission.as_ref().map(|e| e.radiance),
             Some(Rgb::new(5.0, 4.0, 3.0))
         );
         assert!(desc.shapes[..3].iter().all(|s| s.emission.is_none()));

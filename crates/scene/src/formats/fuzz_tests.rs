@@ -46,12 +46,12 @@ const OBJ: &str = "mtllib none.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1
 const NATIVE: &str = "[render]\nwidth = 8\nheight = 8\nspp = 2\nintegrator = \"path\"\n\n[[material]]\nname = \"m\"\ntype = \"diffuse\"\nreflectance = [0.5, 0.5, 0.5]\n\n[[shape]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"m\"\nemission = [1, 1, 1]\n";
 
 /// One malformation of `text`.
-fn mutate(text: &'static str) -> impl Strategy<Value = Vec<u8>> {
+fn mutate(text: &'static [u8]) -> impl Strategy<Value = Vec<u8>> {
     let len = text.len();
     prop_oneof![
-        (0..len).prop_map(move |cut| text.as_bytes()[..cut].to_vec()),
+        (0..len).prop_map(move |cut| text[..cut].to_vec()),
         prop::collection::vec((0..len, any::<u8>()), 1..6).prop_map(move |flips| {
-            let mut b = text.as_bytes().to_vec();
+            let mut b = text.to_vec();
             for (i, v) in flips {
                 b[i] = v;
             }
@@ -59,11 +59,11 @@ fn mutate(text: &'static str) -> impl Strategy<Value = Vec<u8>> {
         }),
         (0..len, 0..len, 1..4usize).prop_map(move |(a, b, times)| {
             let (lo, hi) = (a.min(b), a.max(b));
-            let mut out = text.as_bytes()[..hi].to_vec();
+            let mut out = text[..hi].to_vec();
             for _ in 0..times {
-                out.extend_from_slice(&text.as_bytes()[lo..hi]);
+                out.extend_from_slice(&text[lo..hi]);
             }
-            out.extend_from_slice(&text.as_bytes()[hi..]);
+            out.extend_from_slice(&text[hi..]);
             out
         }),
         (
@@ -83,13 +83,16 @@ fn mutate(text: &'static str) -> impl Strategy<Value = Vec<u8>> {
                 "<include filename=\"x.xml\"/>",
                 "element vertex 1000000000000\n",
                 "f 9 9 9\n",
-                "$spp"
+                "$spp",
+                "65535",
+                "\"mode\": 6, ",
+                "\"children\": [0], "
             ])
         )
             .prop_map(move |(at, tok)| {
-                let mut b = text.as_bytes()[..at].to_vec();
+                let mut b = text[..at].to_vec();
                 b.extend_from_slice(tok.as_bytes());
-                b.extend_from_slice(&text.as_bytes()[at..]);
+                b.extend_from_slice(&text[at..]);
                 b
             }),
     ]
@@ -109,7 +112,7 @@ fn read_as(ext: &str, bytes: &[u8]) -> Result<(), TestCaseError> {
 
 /// Runs `cases` malformations of `seed_text` through the reader of `ext`; returns the
 /// number of inputs tried.
-fn fuzz(ext: &str, seed_text: &'static str, cases: u32) -> u32 {
+fn fuzz(ext: &str, seed_text: &'static [u8], cases: u32) -> u32 {
     assert!(read_scene_ok(ext, seed_text), "the unmutated {ext} seed must read");
     let config = Config {
         cases,
@@ -121,7 +124,7 @@ fn fuzz(ext: &str, seed_text: &'static str, cases: u32) -> u32 {
     cases
 }
 
-fn read_scene_ok(ext: &str, text: &str) -> bool {
+fn read_scene_ok(ext: &str, text: &[u8]) -> bool {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join(format!("scene.{ext}"));
     std::fs::write(&path, text).unwrap();
@@ -130,14 +133,50 @@ fn read_scene_ok(ext: &str, text: &str) -> bool {
 
 #[test]
 fn readers_survive_malformed_input() {
+    // The glTF seeds: the tests' quad with a light and a camera, its buffer a data URI
+    // (so that flipped bytes reach the accessors), and as a GLB.
+    let gltf = |uri: &str| {
+        super::gltf::tests::quad_gltf(
+            uri,
+            r#", "children": [1]}, {"camera": 0, "translation": [0, 0, 3]"#,
+            r#"{"pbrMetallicRoughness": {"metallicFactor": 0.5}, "emissiveFactor": [1, 1, 1]}"#,
+            r#""cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}],"#,
+        )
+    };
+    let buffer = super::gltf::tests::quad_buffer();
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::Engine::encode(&base64::engine::general_purpose::STANDARD, &buffer)
+    );
+    let gltf_text: &'static [u8] = gltf(&uri).into_bytes().leak();
+    let glb: &'static [u8] =
+        super::gltf::tests::glb(&gltf(&uri).replace(&format!(r#", "uri": "{uri}""#), ""), &buffer).leak();
     for (ext, seed) in [
-        ("xml", MITSUBA),
-        ("pbrt", PBRT),
-        ("ply", PLY),
-        ("obj", OBJ),
-        ("toml", NATIVE),
+        ("xml", MITSUBA.as_bytes()),
+        ("pbrt", PBRT.as_bytes()),
+        ("ply", PLY.as_bytes()),
+        ("obj", OBJ.as_bytes()),
+        ("toml", NATIVE.as_bytes()),
+        ("gltf", gltf_text),
+        ("glb", glb),
     ] {
         let n = fuzz(ext, seed, 1000);
         println!("{ext}: {n} malformed inputs, no panic");
     }
+}
+
+/// Crashers the run found, kept: each must now be a clean error.
+#[test]
+fn regressions() {
+    // tobj overflowed multiplying a negative texture-coordinate index gone past the start
+    // (found with the token 65535 inserted after a `-`): now refused, located, before tobj.
+    let obj = OBJ.replace("f 1/1/1 3/1/1 4/1/1", "f 1/1/1 3/-65535/1 4/1/1");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scene.obj");
+    std::fs::write(&path, &obj).unwrap();
+    let e = read_scene(&path).expect_err("out of range").to_string();
+    assert!(
+        e.contains("line 11, column 9: texture coordinate index -65535 is out of range: 1 defined before it"),
+        "{e}"
+    );
 }

@@ -16,6 +16,8 @@ pub struct ObjParts {
 }
 
 fn read(path: &Path) -> Result<(Vec<tobj::Model>, tobj::MTLLoadResult), String> {
+    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    check_indices(&String::from_utf8_lossy(&bytes))?;
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
@@ -23,6 +25,51 @@ fn read(path: &Path) -> Result<(Vec<tobj::Model>, tobj::MTLLoadResult), String> 
     };
     let (models, materials) = tobj::load_obj(path, &options).map_err(|e| e.to_string())?;
     Ok((models, materials.map(|m| (m, Default::default()))))
+}
+
+/// Checks every index of the face, line and point elements of OBJ `text` against the
+/// vertices, texture coordinates and normals defined before it (one-based, or negative:
+/// counted back from the last), naming the line and column of the first that is out of
+/// range or not a number. (tobj, which reads the file next, assumes this.) An index of an
+/// attribute the file has none of is ignored, as tobj ignores it.
+fn check_indices(text: &str) -> Result<(), String> {
+    let names = ["vertex", "texture coordinate", "normal"];
+    let mut counts = [0i64; 3];
+    for (n, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => counts[0] += 1,
+            Some("vt") => counts[1] += 1,
+            Some("vn") => counts[2] += 1,
+            Some("f" | "l" | "p") => {
+                for word in words {
+                    let column = word.as_ptr() as usize - line.as_ptr() as usize + 1;
+                    for (k, part) in word.split('/').enumerate().take(3) {
+                        if part.is_empty() && k > 0 {
+                            continue;
+                        }
+                        let at = format!("line {}, column {column}", n + 1);
+                        let i: i64 = part.parse().map_err(|_| {
+                            format!("{at}: `{word}` is not a vertex reference (v, v/vt, v/vt/vn or v//vn)")
+                        })?;
+                        let count = counts[k];
+                        if count == 0 && k > 0 {
+                            continue;
+                        }
+                        let index = if i < 0 { count.saturating_add(i) } else { i - 1 };
+                        if i == 0 || !(0..count).contains(&index) {
+                            return Err(format!(
+                                "{at}: {} index {i} is out of range: {count} defined before it",
+                                names[k]
+                            ));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 /// One mesh of `models`; normals and texture coordinates only if every model has them.

@@ -14,7 +14,7 @@ mod data;
 mod locate;
 mod looks;
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 
 use super::bare_mesh;
 use crate::desc::{CameraDesc, CameraKind, LightDesc, RenderDesc, ShapeDesc, ShapeKind};

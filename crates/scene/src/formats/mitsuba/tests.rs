@@ -73,7 +73,7 @@ fn parameters_includes_references_and_transforms() {
     // A reference to an area emitter defined after the shape.
     let sphere = &desc.shapes[1];
     assert!(matches!(sphere.kind, ShapeKind::Sphere { radius, .. } if radius == 0.5));
-    assert_eq!(sphere.emission.unwrap().radiance.b, 6.0);
+    assert_eq!(sphere.emission.as_ref().unwrap().radiance.b, 6.0);
     // -D overrides the default.
     let desc = read(&main, &[("w".into(), "16".into())]).unwrap();
     assert_eq!(desc.render.width, 16);

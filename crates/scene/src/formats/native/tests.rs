@@ -246,7 +246,7 @@ fn emitters_and_direct_settings_are_read() {
             selection: penumbra_render::lights::LightSelection::All,
         }
     );
-    let e: Vec<_> = d.shapes.iter().map(|s| s.emission.unwrap()).collect();
+    let e: Vec<_> = d.shapes.iter().map(|s| s.emission.clone().unwrap()).collect();
     assert_eq!((e[0].radiance, e[0].two_sided), (Rgb::new(1.0, 2.0, 3.0), true));
     assert_eq!((e[1].radiance, e[1].two_sided), (Rgb::splat(4.0), false));
     let scene = crate::build_scene(&d).unwrap();

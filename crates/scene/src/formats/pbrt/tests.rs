@@ -49,7 +49,7 @@ fn transforms_attributes_camera_and_instances() {
         .transform
         .point(Vec3::new(1.0, 0.0, 0.0))
         .abs_diff_eq(Vec3::new(3.0, 0.0, 0.0), 1e-6));
-    let e = tri.emission.expect("an area light");
+    let e = tri.emission.clone().expect("an area light");
     let y = 0.2126 * e.radiance.r + 0.7152 * e.radiance.g + 0.0722 * e.radiance.b;
     assert!(
         (y - 3.0).abs() < 1e-3,
