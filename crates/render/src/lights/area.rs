@@ -147,3 +147,92 @@ fn barycentric(v: [Vec3; 3], p: Vec3) -> (f32, f32) {
     }
     ((d11 * d20 - d01 * d21) / den, (d00 * d21 - d01 * d20) / den)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lights::emitter::EmitterShape;
+    use crate::texture::TextureImage;
+    use penumbra_testkit::{assert_within_se, integrate_2d, MeanEstimate, Uniforms};
+    use std::sync::Arc;
+
+    /// A textured triangle light over the origin, facing it: irradiance at the origin by
+    /// light sampling (by area and by solid angle) and by sampling the hemisphere (the
+    /// texture looked up where the rays land) agree with the integral by quadrature, each
+    /// within 4 standard errors (200,000 samples: about 0.1%). Texture coordinates
+    /// interpolated from the wrong corners miss by 58 standard errors.
+    #[test]
+    fn textured_light_sampling_agrees_with_hitting_the_light() {
+        // Dark at the first corner's texture coordinates, bright at the far ones.
+        let image = TextureImage {
+            width: 2,
+            height: 2,
+            pixels: vec![Rgb::splat(0.5), Rgb::splat(4.0), Rgb::splat(0.1), Rgb::splat(1.0)],
+        };
+        let texture = Texture::Image {
+            image: Arc::new(image),
+            scale: 1.0,
+        };
+        let v = [Vec3::new(-0.3, -0.2, 1.0), Vec3::new(-0.2, 0.9, 1.2), Vec3::new(0.8, -0.1, 0.9)];
+        let uvs = [Vec2::new(0.25, 0.25), Vec2::new(0.25, 0.75), Vec2::new(0.75, 0.25)];
+        let light = AreaLight {
+            emitter: Emitter::new(EmitterShape::Triangle { v }).unwrap(),
+            radiance: Rgb::splat(2.0),
+            two_sided: false,
+            texture: Some(Box::new(EmissionTexture::new(texture.clone(), uvs))),
+        };
+        let normal = light.emitter.normal_at(v[0]);
+        assert!(normal.z < 0.0, "the light faces the origin");
+        // The integral of L cos(theta) cos(theta') / r^2 over the triangle, by quadrature
+        // over (b1, b2) = (s, t (1 - s)) with Jacobian 2 A (1 - s).
+        let area = light.emitter.area() as f64;
+        let exact = integrate_2d(
+            &|[s, t]| {
+                let (b1, b2) = (s as f32, (t * (1.0 - s)) as f32);
+                let x = v[0] * (1.0 - b1 - b2) + v[1] * b1 + v[2] * b2;
+                let uv = uvs[0] * (1.0 - b1 - b2) + uvs[1] * b1 + uvs[2] * b2;
+                let l = 2.0 * texture.eval(uv).r as f64;
+                let r2 = x.length_squared() as f64;
+                let w = x.normalize();
+                l * w.z as f64 * (-w.dot(normal)) as f64 / r2 * 2.0 * area * (1.0 - s)
+            },
+            [0.0, 0.0],
+            [1.0, 1.0],
+        );
+        let n = 200_000;
+        let mut rng = Uniforms::new(11);
+        for strategy in [AreaSampling::Area, AreaSampling::SolidAngle] {
+            let mut e = MeanEstimate::default();
+            for _ in 0..n {
+                let x = light
+                    .sample_li(Vec3::ZERO, rng.next_vec2(), strategy)
+                    .map_or(0.0, |s| (s.li.r * s.wi.z.max(0.0) / s.pdf) as f64);
+                e.push(x);
+            }
+            assert_within_se(&format!("{strategy:?}"), e.mean(), e.standard_error(), exact, 0.0, 4.0);
+        }
+        let mut e = MeanEstimate::default();
+        for _ in 0..n {
+            // Uniform over the upper hemisphere, density 1 / (2 pi).
+            let u = rng.next_vec2();
+            let z = u.x;
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            let w = Vec3::new(r * (2.0 * PI * u.y).cos(), r * (2.0 * PI * u.y).sin(), z);
+            // Where the ray meets the light's plane, and whether inside the triangle.
+            let t = v[0].dot(normal) / w.dot(normal);
+            let mut x = 0.0;
+            if t > 0.0 && t.is_finite() {
+                let p = w * t;
+                let (b1, b2) = barycentric(v, p);
+                if b1 >= 0.0 && b2 >= 0.0 && b1 + b2 <= 1.0 {
+                    x = (light.le(p, normal, -w).r * z * 2.0 * PI) as f64;
+                }
+            }
+            e.push(x);
+        }
+        assert_within_se("hemisphere", e.mean(), e.standard_error(), exact, 0.0, 4.0);
+        // The power's mean texture lies between the smallest and largest texel.
+        let mean = light.texture.as_ref().unwrap().mean;
+        assert!((0.1..4.0).contains(&mean), "{mean}");
+    }
+}
