@@ -155,3 +155,37 @@ fn bitterlis_box_in_pbrt_and_mitsuba_form_renders_the_same() {
     );
     assert!(across.mean_ratio.iter().all(|r| (r - 1.0).abs() < 0.005), "{across:?}");
 }
+
+/// Every glTF scene of ../shared loads and builds; the textured box's three forms (separate
+/// files, GLB, data URIs) read to the same meshes and texture.
+#[test]
+fn every_shared_gltf_scene_loads_and_builds() {
+    let Some(scenes) = shared("scenes") else { return };
+    let mut boxes = Vec::new();
+    for f in [
+        "gltf-2CylinderEngine/glTF-Binary/2CylinderEngine.glb",
+        "gltf-BoxTextured/glTF/BoxTextured.gltf",
+        "gltf-BoxTextured/glTF-Binary/BoxTextured.glb",
+        "gltf-BoxTextured/glTF-Embedded/BoxTextured.gltf",
+        "gltf-Cameras/Cameras.gltf",
+        "gltf-DamagedHelmet/glTF/DamagedHelmet.gltf",
+    ] {
+        let desc = read_scene(&scenes.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+        assert!(!desc.shapes.is_empty(), "{f}: no shapes");
+        build_scene(&desc).unwrap_or_else(|e| panic!("{f}: {e}"));
+        println!(
+            "{f}: {} shapes, {} materials, warnings {:?}",
+            desc.shapes.len(),
+            desc.materials.len(),
+            desc.warnings
+        );
+        if f.contains("BoxTextured") {
+            boxes.push(format!("{:?} {:?}", desc.shapes[0].kind, desc.materials));
+        }
+        if f.contains("DamagedHelmet") {
+            let emission = desc.shapes[0].emission.as_ref().expect("the helmet's visor glows");
+            assert!(emission.texture.is_some());
+        }
+    }
+    assert!(boxes.windows(2).all(|w| w[0] == w[1]), "the three boxes differ");
+}

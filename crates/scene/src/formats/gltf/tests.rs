@@ -250,3 +250,45 @@ fn unsupported_things_warn_once() {
     let e = read(&dir.path().join("a.gltf")).expect_err("nothing to draw");
     assert!(e.to_string().contains("no triangles"), "{e}");
 }
+
+/// The picture is the right way round: a quad whose emissive texture is red, green, blue
+/// and white in its top-left, top-right, bottom-left and bottom-right quarters, seen by
+/// the file's camera from the front, shows each colour in that quarter of the image (so
+/// texture coordinates, the camera's handedness and textured emission all hold).
+#[test]
+fn the_picture_is_the_right_way_round() {
+    let mut png = Vec::new();
+    let pixels = [[255u8, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 255]];
+    image::RgbImage::from_fn(2, 2, |x, y| image::Rgb(pixels[(y * 2 + x) as usize]))
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    let png_uri = format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&png)
+    );
+    let extra = format!(
+        r#""cameras": [{{"type": "perspective", "perspective": {{"yfov": 0.6, "aspectRatio": 1, "znear": 0.1}}}}],
+  "images": [{{"uri": "{png_uri}"}}], "textures": [{{"source": 0}}],"#
+    );
+    let text = quad_gltf(
+        &data_uri(&quad_buffer()),
+        r#", "children": [1]}, {"camera": 0, "translation": [0, 0, 3]"#,
+        r#"{"pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1]}, "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 0}}"#,
+        &extra,
+    );
+    let desc = read_text(&text);
+    assert!(desc.shapes[0].emission.as_ref().is_some_and(|e| e.texture.is_some()));
+    let scene = crate::build_scene(&desc).unwrap();
+    let (w, h) = (desc.render.width as f32, desc.render.height as f32);
+    for (k, (fx, fy)) in [(0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)].into_iter().enumerate() {
+        let ray = scene.camera.generate_ray(glam::Vec2::new(fx * w, fy * h), glam::Vec2::splat(0.5));
+        let it = scene.intersect(&ray, f32::INFINITY).expect("the quad fills the view");
+        let c = scene.emitted(&it);
+        let want = pixels[k].map(|x| x as f32 / 255.0);
+        let got = [c.r, c.g, c.b];
+        assert!(
+            got.iter().zip(want).all(|(g, w)| (g - w).abs() < 0.1),
+            "quarter {k}: {got:?}, expected {want:?}"
+        );
+    }
+}
