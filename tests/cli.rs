@@ -216,7 +216,8 @@ fn bad_arguments_exit_2() {
         (vec!["render", "--integrator", "magic"], "unknown value `magic`"),
         (vec!["render", "does-not-exist.toml"], "cannot read does-not-exist.toml"),
         (vec!["render", "scene.obj"], "scene.obj"),
-        (vec!["render", "scene.gltf"], "unsupported scene format"),
+        (vec!["render", "scene.fbx"], "unsupported scene format"),
+        (vec!["render", "scene.gltf"], "cannot read scene.gltf"),
         (vec!["render", "-D", "spp=4"], "no scene file was given"),
         (vec!["render", "scene.xml", "-D", "bad-name=4"], "not a parameter name"),
         (

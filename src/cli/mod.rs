@@ -44,9 +44,9 @@ enum Command {
 /// Options of `penumbra render`; each overrides what the scene file says.
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Scene file: .toml (the native format), .xml (Mitsuba 3), or a bare .obj or .ply mesh
-    /// (shown by a default camera framing it, a grey material, a sky and a key light); the
-    /// built-in default scene when omitted.
+    /// Scene file: .toml (the native format), .xml (Mitsuba 3), .pbrt (pbrt-v4), .gltf or
+    /// .glb (glTF 2.0), or a bare .obj or .ply mesh (shown by a default camera framing it, a
+    /// grey material, a sky and a key light); the built-in default scene when omitted.
     pub scene: Option<PathBuf>,
     /// Sets the Mitsuba scene parameter `$NAME` (overriding its `<default>`); repeatable.
     #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]

@@ -15,11 +15,43 @@ pub struct TextureImage {
     pub width: usize,
     pub height: usize,
     pub pixels: Vec<Rgb>,
+    /// What lies beyond the image along u and along v.
+    pub wrap: [Wrap; 2],
+}
+
+/// What an image texture shows outside [0, 1] along one axis (glTF's wrap modes, Mitsuba's
+/// `wrap_mode`, pbrt's `wrap`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Wrap {
+    /// The image again.
+    #[default]
+    Repeat,
+    /// The image mirrored, then again, and so on.
+    Mirror,
+    /// The edge pixels, stretched.
+    Clamp,
+    /// Black.
+    Black,
+}
+
+impl Wrap {
+    /// The pixel that `i` (any integer) stands for in a row of `n`; `None`: black.
+    fn pixel(self, i: i64, n: i64) -> Option<i64> {
+        match self {
+            Wrap::Repeat => Some(i.rem_euclid(n)),
+            Wrap::Mirror => {
+                let m = i.rem_euclid(2 * n);
+                Some(if m >= n { 2 * n - 1 - m } else { m })
+            }
+            Wrap::Clamp => Some(i.clamp(0, n - 1)),
+            Wrap::Black => (0..n).contains(&i).then_some(i),
+        }
+    }
 }
 
 impl TextureImage {
     /// Bilinear interpolation of the four pixels around texture point `uv`, the image
-    /// repeated in both directions; pixel centres at ((x + 0.5)/w, 1 - (y + 0.5)/h).
+    /// continued by its [`Wrap`]s; pixel centres at ((x + 0.5)/w, 1 - (y + 0.5)/h).
     pub fn bilinear(&self, uv: Vec2) -> Rgb {
         let (w, h) = (self.width as i64, self.height as i64);
         let x = uv.x * w as f32 - 0.5;
@@ -29,7 +61,10 @@ impl TextureImage {
         }
         let (x0, y0) = (x.floor(), y.floor());
         let (fx, fy) = (x - x0, y - y0);
-        let at = |i: i64, j: i64| self.pixels[(j.rem_euclid(h) * w + i.rem_euclid(w)) as usize];
+        let at = |i: i64, j: i64| match (self.wrap[0].pixel(i, w), self.wrap[1].pixel(j, h)) {
+            (Some(i), Some(j)) => self.pixels[(j * w + i) as usize],
+            _ => Rgb::BLACK,
+        };
         let (i, j) = (x0 as i64, y0 as i64);
         (at(i, j) * (1.0 - fx) + at(i + 1, j) * fx) * (1.0 - fy)
             + (at(i, j + 1) * (1.0 - fx) + at(i + 1, j + 1) * fx) * fy
@@ -97,6 +132,7 @@ mod tests {
     fn image_textures_interpolate_between_pixel_centres_and_repeat() {
         // 2 x 2: top row black, white; bottom row red, blue.
         let image = TextureImage {
+            wrap: Default::default(),
             width: 2,
             height: 2,
             pixels: vec![Rgb::BLACK, Rgb::WHITE, Rgb::new(1.0, 0.0, 0.0), Rgb::new(0.0, 0.0, 1.0)],
@@ -124,6 +160,32 @@ mod tests {
         assert_eq!(t.eval(Vec2::new(0.125, 0.375)), Rgb::BLACK);
         assert_eq!(t.max_value(), Rgb::WHITE);
         assert_eq!(t.min_value(), Rgb::BLACK);
+    }
+
+    /// Beyond [0, 1] each wrap continues the image its way (a 2 x 1 image: pixel centres at
+    /// u = 0.25 and 0.75).
+    #[test]
+    fn wraps_continue_the_image() {
+        let (a, b) = (Rgb::new(1.0, 0.0, 0.0), Rgb::new(0.0, 0.0, 1.0));
+        let image = |wrap: Wrap| TextureImage {
+            width: 2,
+            height: 1,
+            pixels: vec![a, b],
+            wrap: [wrap, Wrap::Repeat],
+        };
+        let at = |wrap: Wrap, u: f32| image(wrap).bilinear(Vec2::new(u, 0.5));
+        assert_eq!(at(Wrap::Repeat, 1.25), a);
+        assert_eq!(at(Wrap::Mirror, 1.25), b);
+        assert_eq!(at(Wrap::Mirror, 1.75), a);
+        assert_eq!(at(Wrap::Mirror, -0.25), a);
+        assert_eq!(at(Wrap::Clamp, 1.75), b);
+        assert_eq!(at(Wrap::Clamp, -3.0), a);
+        assert_eq!(at(Wrap::Black, 1.75), Rgb::BLACK);
+        assert_eq!(at(Wrap::Black, 1.0), b * 0.5);
+        // Inside, every wrap is the same image.
+        for wrap in [Wrap::Repeat, Wrap::Mirror, Wrap::Clamp, Wrap::Black] {
+            assert_eq!(at(wrap, 0.5), (a + b) * 0.5);
+        }
     }
 
     #[test]

@@ -182,6 +182,7 @@ fn environment(e: &EnvironmentDesc) -> Result<Environment, String> {
     let image = crate::image_input::read_input_image(path, false)
         .map_err(|err| format!("cannot read the environment map {}: {err}", path.display()))?;
     let image = TextureImage {
+        wrap: Default::default(),
         width: image.width as usize,
         height: image.height as usize,
         pixels: image.pixels,

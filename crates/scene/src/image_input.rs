@@ -3,7 +3,7 @@
 
 use crate::image_io::{read_image, OwnedImage};
 use penumbra_core::Rgb;
-use penumbra_render::texture::TextureImage;
+use penumbra_render::texture::{TextureImage, Wrap};
 use penumbra_render::Texture;
 use std::io;
 use std::path::Path;
@@ -78,10 +78,22 @@ pub fn image_texture(path: &Path, srgb: bool, scale: f32) -> Result<Texture, Str
     }
     Ok(Texture::Image {
         image: Arc::new(TextureImage {
+            wrap: Default::default(),
             width: image.width as usize,
             height: image.height as usize,
             pixels: image.pixels,
         }),
         scale,
     })
+}
+
+/// `texture` with `wrap` (along u, v) beyond its image, if it is an image.
+pub fn with_wrap(texture: Texture, wrap: [Wrap; 2]) -> Texture {
+    match texture {
+        Texture::Image { mut image, scale } => {
+            Arc::make_mut(&mut image).wrap = wrap;
+            Texture::Image { image, scale }
+        }
+        other => other,
+    }
 }

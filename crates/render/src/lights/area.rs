@@ -165,6 +165,7 @@ mod tests {
     fn textured_light_sampling_agrees_with_hitting_the_light() {
         // Dark at the first corner's texture coordinates, bright at the far ones.
         let image = TextureImage {
+            wrap: Default::default(),
             width: 2,
             height: 2,
             pixels: vec![Rgb::splat(0.5), Rgb::splat(4.0), Rgb::splat(0.1), Rgb::splat(1.0)],
@@ -173,7 +174,11 @@ mod tests {
             image: Arc::new(image),
             scale: 1.0,
         };
-        let v = [Vec3::new(-0.3, -0.2, 1.0), Vec3::new(-0.2, 0.9, 1.2), Vec3::new(0.8, -0.1, 0.9)];
+        let v = [
+            Vec3::new(-0.3, -0.2, 1.0),
+            Vec3::new(-0.2, 0.9, 1.2),
+            Vec3::new(0.8, -0.1, 0.9),
+        ];
         let uvs = [Vec2::new(0.25, 0.25), Vec2::new(0.25, 0.75), Vec2::new(0.75, 0.25)];
         let light = AreaLight {
             emitter: Emitter::new(EmitterShape::Triangle { v }).unwrap(),

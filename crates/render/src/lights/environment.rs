@@ -183,7 +183,12 @@ mod tests {
                 }
             })
             .collect();
-        TextureImage { width, height, pixels }
+        TextureImage {
+            width,
+            height,
+            pixels,
+            wrap: Default::default(),
+        }
     }
 
     #[test]
@@ -257,6 +262,7 @@ mod tests {
             .unwrap_err()
             .contains("(5, 0)"));
         let black = TextureImage {
+            wrap: Default::default(),
             width: 2,
             height: 2,
             pixels: vec![Rgb::BLACK; 4],

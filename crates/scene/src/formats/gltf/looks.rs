@@ -22,7 +22,7 @@ use gltf::texture::WrappingMode;
 use penumbra_core::Rgb;
 use penumbra_render::bsdfs::MetalFresnel;
 use penumbra_render::materials::Roughness;
-use penumbra_render::texture::TextureImage;
+use penumbra_render::texture::{TextureImage, Wrap};
 use penumbra_render::{Material, Texture};
 use std::sync::Arc;
 
@@ -158,14 +158,11 @@ impl Reader {
             );
         }
         let sampler = texture.sampler();
-        if sampler.wrap_s() != WrappingMode::Repeat || sampler.wrap_t() != WrappingMode::Repeat {
-            let at = format!("samplers[{}]", sampler.index().unwrap_or(0));
-            self.warn(
-                "wrap",
-                &at,
-                "texture wrap modes other than REPEAT are not supported: textures repeat",
-            );
-        }
+        let wrap = [sampler.wrap_s(), sampler.wrap_t()].map(|w| match w {
+            WrappingMode::Repeat => Wrap::Repeat,
+            WrappingMode::MirroredRepeat => Wrap::Mirror,
+            WrappingMode::ClampToEdge => Wrap::Clamp,
+        });
         let source = texture.source();
         let raw = match self.images.get(&source.index()) {
             Some(raw) => raw.clone(),
@@ -178,6 +175,7 @@ impl Reader {
         let decode = |x: f32| if srgb { srgb_decode(x) } else { x };
         Ok(Texture::Image {
             image: Arc::new(TextureImage {
+                wrap,
                 width: raw.width,
                 height: raw.height,
                 pixels: raw

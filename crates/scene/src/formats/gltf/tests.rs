@@ -66,11 +66,11 @@ fn read_text(text: &str) -> SceneDesc {
 /// A GLB container of `json` and `bin` (padded as the spec asks).
 pub fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
     let mut j = json.as_bytes().to_vec();
-    while j.len() % 4 != 0 {
+    while !j.len().is_multiple_of(4) {
         j.push(b' ');
     }
     let mut b = bin.to_vec();
-    while b.len() % 4 != 0 {
+    while !b.len().is_multiple_of(4) {
         b.push(0);
     }
     let total = 12 + 8 + j.len() + 8 + b.len();
@@ -280,8 +280,13 @@ fn the_picture_is_the_right_way_round() {
     assert!(desc.shapes[0].emission.as_ref().is_some_and(|e| e.texture.is_some()));
     let scene = crate::build_scene(&desc).unwrap();
     let (w, h) = (desc.render.width as f32, desc.render.height as f32);
-    for (k, (fx, fy)) in [(0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)].into_iter().enumerate() {
-        let ray = scene.camera.generate_ray(glam::Vec2::new(fx * w, fy * h), glam::Vec2::splat(0.5));
+    for (k, (fx, fy)) in [(0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)]
+        .into_iter()
+        .enumerate()
+    {
+        let ray = scene
+            .camera
+            .generate_ray(glam::Vec2::new(fx * w, fy * h), glam::Vec2::splat(0.5));
         let it = scene.intersect(&ray, f32::INFINITY).expect("the quad fills the view");
         let c = scene.emitted(&it);
         let want = pixels[k].map(|x| x as f32 / 255.0);

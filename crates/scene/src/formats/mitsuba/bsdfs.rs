@@ -5,6 +5,7 @@ use super::{warn_unused, At, Reader, Result};
 use penumbra_core::Rgb;
 use penumbra_render::bsdfs::MetalFresnel;
 use penumbra_render::materials::{metal_ior, Roughness};
+use penumbra_render::texture::Wrap;
 use penumbra_render::{Material, Texture};
 
 /// Named interior indices of refraction (Mitsuba's table, the common ones).
@@ -211,9 +212,35 @@ pub fn texture(r: &mut Reader, at: At, data: bool) -> Result<Texture> {
                 .ok_or_else(|| at.error("a bitmap needs a `filename`"))?;
             let raw = p.bool_or(r, "raw", data)?;
             let path = r.resolve(v, &name);
-            p.string(r, "filter_type")?;
-            p.string(r, "wrap_mode")?;
-            crate::image_input::image_texture(&path, !raw, uv_scale(r, &p)?).map_err(|e| r.attr_error(v, "value", e))?
+            let wrap = match p.string(r, "wrap_mode")? {
+                None => Wrap::Repeat,
+                Some((mode, at)) => match mode.as_str() {
+                    "repeat" => Wrap::Repeat,
+                    "mirror" => Wrap::Mirror,
+                    "clamp" => Wrap::Clamp,
+                    _ => {
+                        let message = format!("unknown wrap_mode `{mode}`: expected repeat, mirror or clamp");
+                        return Err(r.attr_error(at, "value", message));
+                    }
+                },
+            };
+            match p.string(r, "filter_type")? {
+                Some((f, at)) if f == "nearest" => r.warn_once(
+                    "filter_type nearest",
+                    format!(
+                        "{}: filter_type `nearest` is not supported: textures are filtered bilinearly",
+                        at.place()
+                    ),
+                ),
+                Some((f, at)) if f != "bilinear" => {
+                    let message = format!("unknown filter_type `{f}`: expected bilinear or nearest");
+                    return Err(r.attr_error(at, "value", message));
+                }
+                _ => {}
+            }
+            let texture = crate::image_input::image_texture(&path, !raw, uv_scale(r, &p)?)
+                .map_err(|e| r.attr_error(v, "value", e))?;
+            crate::image_input::with_wrap(texture, [wrap; 2])
         }
         "checkerboard" => Texture::Checker {
             even: p.color_or(r, "color0", 0.4)?,

@@ -125,6 +125,11 @@ fn errors_name_the_file_line_and_column() {
             "a.xml:3:32",
             "singular",
         ),
+        (
+            vec![("a.xml", "<scene version=\"3.0.0\">\n  <bsdf type=\"diffuse\">\n    <texture type=\"bitmap\" name=\"reflectance\">\n      <string name=\"filename\" value=\"t.png\"/>\n      <string name=\"wrap_mode\" value=\"spiral\"/>\n    </texture>\n  </bsdf>\n</scene>")],
+            "a.xml:5:39",
+            "unknown wrap_mode `spiral`",
+        ),
     ] {
         let got = error_at(&files, |p| read(p, &[]));
         assert!(got.starts_with(at) && got.contains(needle), "expected {at} ... {needle}, got {got}");

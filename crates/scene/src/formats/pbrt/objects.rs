@@ -11,6 +11,7 @@ use penumbra_render::bsdfs::MetalFresnel;
 use penumbra_render::cameras::FovAxis;
 use penumbra_render::integrators::MAX_DEPTH_LIMIT;
 use penumbra_render::materials::{metal_ior, Roughness};
+use penumbra_render::texture::Wrap;
 use penumbra_render::{Filter, Material, Texture};
 
 /// Parameters nobody read: one warning per directive type and name.
@@ -320,8 +321,18 @@ pub fn texture(r: &mut Reader, class: &str, p: &Params, file: &SourceFile, here:
                 .ok_or_else(|| SceneError::at(here.clone(), "an imagemap needs a \"string filename\""))?;
             let path = r.resolve(file, &name);
             let srgb = p.string("encoding")?.is_none_or(|e| e == "sRGB");
-            crate::image_input::image_texture(&path, srgb, p.float("uscale", 1.0)?)
-                .map_err(|e| SceneError::at(here.clone(), e))?
+            let wrap = match p.string("wrap")?.as_deref() {
+                None | Some("repeat") => Wrap::Repeat,
+                Some("clamp") => Wrap::Clamp,
+                Some("black") => Wrap::Black,
+                Some(other) => {
+                    let message = format!("unknown wrap \"{other}\": expected repeat, clamp or black");
+                    return Err(SceneError::at(here.clone(), message));
+                }
+            };
+            let texture = crate::image_input::image_texture(&path, srgb, p.float("uscale", 1.0)?)
+                .map_err(|e| SceneError::at(here.clone(), e))?;
+            crate::image_input::with_wrap(texture, [wrap; 2])
         }
         "checkerboard" => Texture::Checker {
             even: color(p, "tex1", ColorKind::Albedo)?.unwrap_or(Rgb::WHITE),
