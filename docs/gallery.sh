@@ -29,3 +29,7 @@ row pbrt-killeroo-simple pbrt-killeroos/killeroo-simple.pbrt 64 342x256
 row mesh-bunny mesh-stanford-bunny/bun_zipper.ply 64 320x240
 row mesh-teapot mesh-utah-teapot/teapot.obj 64 320x240
 row mesh-suzanne mesh-suzanne/suzanne.obj 64 320x240
+row gltf-2CylinderEngine gltf-2CylinderEngine/glTF-Binary/2CylinderEngine.glb 64 256x256
+row gltf-BoxTextured gltf-BoxTextured/glTF-Binary/BoxTextured.glb 64 320x240
+row gltf-Cameras gltf-Cameras/Cameras.gltf 64 256x256
+row gltf-DamagedHelmet gltf-DamagedHelmet/glTF/DamagedHelmet.gltf 64 320x240

@@ -176,17 +176,32 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
 
 /// The environment light `e` describes, its map loaded; the error names the map.
 fn environment(e: &EnvironmentDesc) -> Result<Environment, String> {
-    let EnvironmentSource::Image(path) = &e.source else {
-        return Ok(Environment::constant(e.scale));
+    let (path, octahedral) = match &e.source {
+        EnvironmentSource::Constant => return Ok(Environment::constant(e.scale)),
+        EnvironmentSource::Image(path) => (path, false),
+        EnvironmentSource::Octahedral(path) => (path, true),
     };
     let image = crate::image_input::read_input_image(path, false)
         .map_err(|err| format!("cannot read the environment map {}: {err}", path.display()))?;
-    let image = TextureImage {
-        wrap: Default::default(),
+    let mut image = TextureImage {
         width: image.width as usize,
         height: image.height as usize,
         pixels: image.pixels,
+        wrap: Default::default(),
     };
-    Environment::image(image, e.scale, glam::Mat3::from_mat4(e.transform.m))
-        .map_err(|m| format!("the environment map {}: {m}", path.display()))
+    if octahedral {
+        if image.width != image.height {
+            return Err(format!(
+                "the environment map {} is {} x {}: pbrt's equal-area maps are square",
+                path.display(),
+                image.width,
+                image.height
+            ));
+        }
+        image = crate::octahedral::to_equirect(&image);
+    }
+    // The map's frame: the transform's rotation (its columns made unit length).
+    let m = glam::Mat3::from_mat4(e.transform.m);
+    let rotation = glam::Mat3::from_cols(m.x_axis.normalize(), m.y_axis.normalize(), m.z_axis.normalize());
+    Environment::image(image, e.scale, rotation).map_err(|m| format!("the environment map {}: {m}", path.display()))
 }

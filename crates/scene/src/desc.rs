@@ -224,6 +224,8 @@ pub enum EnvironmentSource {
     Constant,
     /// An equirectangular image file (.exr, .hdr, .pfm), resolved against the scene's folder.
     Image(std::path::PathBuf),
+    /// A square image file in pbrt-v4's equal-area octahedral mapping ([`crate::octahedral`]).
+    Octahedral(std::path::PathBuf),
 }
 
 impl SceneDesc {

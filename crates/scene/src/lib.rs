@@ -11,6 +11,7 @@ mod error;
 pub mod formats;
 pub mod image_input;
 pub mod image_io;
+pub mod octahedral;
 mod params;
 
 pub use build::build_scene;

@@ -398,21 +398,32 @@ pub fn light(r: &mut Reader, kind: &str, p: &Params, file: &SourceFile, here: Lo
             });
         }
         "infinite" => {
-            if let Some(name) = p.string("filename")? {
-                let path = r.resolve(file, &name);
-                r.warn(
-                    "infinite map",
-                    format!("{here}: image infinite lights ({}) use pbrt's octahedral mapping, which we do not read: skipped", path.display()),
-                );
-                return Ok(());
-            }
             if r.desc.environment.is_some() {
                 return Err(SceneError::at(here, "a second infinite light: the scene may have one"));
             }
+            // An image in pbrt's equal-area octahedral mapping, times `scale`, placed by the
+            // current transform; or a constant `L`.
+            let (source, scale, transform) = match p.string("filename")? {
+                Some(name) => {
+                    let path = r.resolve(file, &name);
+                    if !path.exists() {
+                        return Err(SceneError::at(
+                            here,
+                            format!("cannot read the environment map {}", path.display()),
+                        ));
+                    }
+                    (
+                        EnvironmentSource::Octahedral(path),
+                        Rgb::splat(p.float("scale", 1.0)?),
+                        r.state.ctm,
+                    )
+                }
+                None => (EnvironmentSource::Constant, emitted(p, "L")?, Transform::IDENTITY),
+            };
             r.desc.environment = Some(EnvironmentDesc {
-                source: EnvironmentSource::Constant,
-                scale: emitted(p, "L")?,
-                transform: Transform::IDENTITY,
+                source,
+                scale,
+                transform,
                 location: Some(here.clone()),
             });
         }

@@ -157,3 +157,47 @@ MakeNamedMedium "fog" "string type" "homogeneous"
     assert_eq!(count("media"), 1, "{:?}", desc.warnings);
     assert_eq!(desc.shapes.len(), 2);
 }
+
+/// An image `infinite` light: pbrt's equal-area octahedral map, turned by the transform in
+/// force and scaled by `scale`. A map bright only at its centre (light-space +z) lights the
+/// world from where the transform sends +z, twice as bright as the map, and not from +z.
+#[test]
+fn image_infinite_lights_read_pbrts_octahedral_maps() {
+    let n = 16;
+    let mut pfm = format!("PF\n{n} {n}\n-1.0\n").into_bytes();
+    for row in 0..n {
+        for col in 0..n {
+            let (x, y) = (col as f32 + 0.5 - n as f32 / 2.0, row as f32 + 0.5 - n as f32 / 2.0);
+            let v = if x.abs() < 2.0 && y.abs() < 2.0 { 5.0f32 } else { 0.01 };
+            for _ in 0..3 {
+                pfm.extend(v.to_le_bytes());
+            }
+        }
+    }
+    let scene = "WorldBegin\nAttributeBegin\nRotate 90 1 0 0\nLightSource \"infinite\" \"string filename\" \"env.pfm\" \"float scale\" 2\nAttributeEnd\nShape \"sphere\" \"float radius\" 0.1\n";
+    let dir = folder(&[("a.pbrt", scene)]);
+    std::fs::write(dir.path().join("env.pfm"), &pfm).unwrap();
+    let desc = read(&dir.path().join("a.pbrt")).unwrap_or_else(|e| panic!("{e}"));
+    let env = desc.environment.as_ref().expect("an environment");
+    assert!(matches!(env.source, crate::desc::EnvironmentSource::Octahedral(_)));
+    let lit_from = env.transform.vector(Vec3::Z).normalize();
+    assert!(
+        (lit_from - Vec3::Z).length() > 1.0,
+        "the light's transform turns the map"
+    );
+    let built = crate::build_scene(&desc).unwrap();
+    let bright = built.escaped(lit_from);
+    assert!((bright.r - 10.0).abs() < 1e-3, "{bright:?}");
+    assert!(built.escaped(Vec3::Z).r < 0.1);
+    assert!(built.escaped(-lit_from).r < 0.1);
+    // A map that is not square is refused, naming it.
+    let dir = folder(&[("a.pbrt", scene)]);
+    std::fs::write(
+        dir.path().join("env.pfm"),
+        b"PF\n2 1\n-1.0\n\0\0\x80?\0\0\x80?\0\0\x80?\0\0\x80?\0\0\x80?\0\0\x80?",
+    )
+    .unwrap();
+    let desc = read(&dir.path().join("a.pbrt")).unwrap();
+    let e = crate::build_scene(&desc).err().expect("not square").to_string();
+    assert!(e.contains("env.pfm") && e.contains("square"), "{e}");
+}
