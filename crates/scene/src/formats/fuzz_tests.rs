@@ -165,9 +165,31 @@ fn readers_survive_malformed_input() {
     }
 }
 
-/// Crashers the run found, kept: each must now be a clean error.
+/// Crashers found, kept: each must now read to a scene or a clean error. The coverage-guided
+/// fuzzer's (`cargo fuzz`, see fuzz/) are the files under fuzz/regressions/<target>/.
 #[test]
 fn regressions() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/regressions");
+    let mut n = 0;
+    for (target, ext) in [
+        ("gltf", "gltf"),
+        ("glb", "glb"),
+        ("mitsuba", "xml"),
+        ("pbrt", "pbrt"),
+        ("ply", "ply"),
+        ("obj", "obj"),
+        ("native", "toml"),
+    ] {
+        let Ok(files) = std::fs::read_dir(root.join(target)) else {
+            continue;
+        };
+        for f in files {
+            let bytes = std::fs::read(f.unwrap().path()).unwrap();
+            read_as(ext, &bytes).unwrap();
+            n += 1;
+        }
+    }
+    assert!(n >= 2, "the kept crashers are missing from {}", root.display());
     // tobj overflowed multiplying a negative texture-coordinate index gone past the start
     // (found with the token 65535 inserted after a `-`): now refused, located, before tobj.
     let obj = OBJ.replace("f 1/1/1 3/1/1 4/1/1", "f 1/1/1 3/-65535/1 4/1/1");

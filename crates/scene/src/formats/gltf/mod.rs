@@ -182,6 +182,27 @@ impl Reader {
     /// The `gltf` crate's checks of the document (indices in range, required members),
     /// errors located; required extensions we can do without are warnings.
     fn validate(&mut self, root: &gltf::json::Root) -> Result<()> {
+        // The crate's own validation indexes the accessors by each primitive's POSITION
+        // unchecked (a panic found by fuzzing): every attribute's accessor is checked first.
+        for (m, mesh) in root.meshes.iter().enumerate() {
+            for (p, prim) in mesh.primitives.iter().enumerate() {
+                for (semantic, index) in &prim.attributes {
+                    if index.value() >= root.accessors.len() {
+                        let name = match semantic {
+                            gltf::json::validation::Checked::Valid(s) => s.to_string(),
+                            gltf::json::validation::Checked::Invalid => "?".into(),
+                        };
+                        let path = format!("meshes[{m}].primitives[{p}].attributes[\"{name}\"]");
+                        let message = format!(
+                            "invalid glTF: accessor {} does not exist (the file has {})",
+                            index.value(),
+                            root.accessors.len()
+                        );
+                        return Err(self.fail(Fail::new(path, message)));
+                    }
+                }
+            }
+        }
         let mut found = Vec::new();
         root.validate(
             root,
