@@ -6,7 +6,7 @@
 use glam::{Vec2, Vec3};
 use penumbra_geometry::TriangleMesh;
 use ply_rs_bw::parser::Parser;
-use ply_rs_bw::ply::{DefaultElement, Property};
+use ply_rs_bw::ply::{DefaultElement, Encoding, Header, Property};
 use std::path::Path;
 
 fn scalar(p: &Property) -> Option<f64> {
@@ -47,6 +47,7 @@ pub fn load(path: &Path) -> Result<TriangleMesh, String> {
     let ply = Parser::<DefaultElement>::new()
         .read_ply(&mut reader)
         .map_err(|e| format!("invalid PLY: {e}"))?;
+    let place = |element: &str, i: usize, token: usize| place(path, &ply.header, element, i, token);
     let vertices = ply.payload.get("vertex").ok_or("the file has no `vertex` element")?;
     let faces = ply.payload.get("face").ok_or("the file has no `face` element")?;
 
@@ -55,7 +56,10 @@ pub fn load(path: &Path) -> Result<TriangleMesh, String> {
     for (i, v) in vertices.iter().enumerate() {
         let p = (get(v, &["x"]), get(v, &["y"]), get(v, &["z"]));
         let (Some(x), Some(y), Some(z)) = p else {
-            return Err(format!("vertex {i} lacks a numeric x, y or z"));
+            return Err(format!(
+                "{}: vertex {i} lacks a numeric x, y or z",
+                place("vertex", i, 0)
+            ));
         };
         mesh.positions.push(Vec3::new(x, y, z));
         if let (Some(nx), Some(ny), Some(nz)) = (get(v, &["nx"]), get(v, &["ny"]), get(v, &["nz"])) {
@@ -74,14 +78,25 @@ pub fn load(path: &Path) -> Result<TriangleMesh, String> {
             .iter()
             .find_map(|k| f.get(*k))
             .and_then(list)
-            .ok_or_else(|| format!("face {i} has no vertex_indices list"))?;
+            .ok_or_else(|| format!("{}: face {i} has no vertex_indices list", place("face", i, 0)))?;
         if idx.len() < 3 {
-            return Err(format!("face {i} has {} vertices; at least 3 are needed", idx.len()));
+            return Err(format!(
+                "{}: face {i} has {} vertices; at least 3 are needed",
+                place("face", i, 0),
+                idx.len()
+            ));
         }
-        let to_u32 = |x: i64| u32::try_from(x).map_err(|_| format!("face {i} has the invalid vertex index {x}"));
-        let first = to_u32(idx[0])?;
+        if let Some(j) = idx.iter().position(|&x| !(0..n as i64).contains(&x)) {
+            return Err(format!(
+                "{}: face {i} uses vertex {}, but the file has {n} vertices",
+                place("face", i, j + 1),
+                idx[j]
+            ));
+        }
+        let to_u32 = |x: i64| x as u32;
+        let first = to_u32(idx[0]);
         for k in 1..idx.len() - 1 {
-            mesh.indices.push([first, to_u32(idx[k])?, to_u32(idx[k + 1])?]);
+            mesh.indices.push([first, to_u32(idx[k]), to_u32(idx[k + 1])]);
         }
     }
     if mesh.indices.is_empty() {
@@ -89,6 +104,33 @@ pub fn load(path: &Path) -> Result<TriangleMesh, String> {
     }
     mesh.validate().map_err(|e| e.to_string())?;
     Ok(mesh)
+}
+
+/// Where element `i` of `element` is in the file: in an ASCII file, its line and the column
+/// of its `token`-th value (0: the line's first); in a binary one, the element and index.
+fn place(path: &Path, header: &Header, element: &str, i: usize, token: usize) -> String {
+    if header.encoding != Encoding::Ascii {
+        return format!("{element} {i} (binary data)");
+    }
+    let before: usize = header
+        .elements
+        .values()
+        .take_while(|e| e.name != element)
+        .map(|e| e.count)
+        .sum();
+    let text = std::fs::read(path).unwrap_or_default();
+    let text = String::from_utf8_lossy(&text);
+    let mut lines = text.lines().enumerate();
+    let Some((header_end, _)) = lines.find(|(_, l)| l.trim() == "end_header") else {
+        return format!("{element} {i}");
+    };
+    let number = header_end + 1 + before + i;
+    let line = text.lines().nth(number).unwrap_or("");
+    let column = line
+        .split_whitespace()
+        .nth(token)
+        .map_or(1, |t| t.as_ptr() as usize - line.as_ptr() as usize + 1);
+    format!("line {}, column {column}", number + 1)
 }
 
 #[cfg(test)]
@@ -139,7 +181,12 @@ mod tests {
             "range.ply",
             format!("{HEADER}0 0 0 1\n1 0 0 1\n1 1 0 1\n0 1 0 1\n3 0 1 9\n").as_bytes(),
         );
-        assert!(load(&p).unwrap_err().contains("vertex 9"));
+        // The out-of-range index is the 4th value on line 15.
+        let e = load(&p).unwrap_err();
+        assert!(
+            e.contains("line 15, column 7: face 0 uses vertex 9, but the file has 4 vertices"),
+            "{e}"
+        );
         assert!(load(Path::new("/nonexistent/x.ply")).is_err());
     }
 }
