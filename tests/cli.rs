@@ -274,6 +274,7 @@ fn help_documents_every_flag() {
         "--mis-heuristic",
         "--light-selection",
         "--sampler",
+        "--camera",
     ] {
         assert!(help.contains(flag), "{flag} missing from --help");
     }
@@ -550,4 +551,35 @@ fn bare_meshes_render_framed_and_broken_ones_exit_2() {
         assert!(stderr.contains(needle), "{name}: expected `{needle}` in {stderr}");
         assert!(!stderr.contains("panicked"), "{name}: {stderr}");
     }
+}
+
+/// `--camera N` picks one of a glTF file's cameras (the shared `Cameras.gltf` has a
+/// perspective and an orthographic one); one past the last is a clear error.
+#[test]
+fn a_gltf_camera_can_be_chosen() {
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/scenes/gltf-Cameras/Cameras.gltf");
+    if !scene.exists() {
+        println!(
+            "note: skipping: {} is not there (../shared is not beside the repository)",
+            scene.display()
+        );
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let s = scene.to_str().unwrap();
+    let mut images = Vec::new();
+    for k in ["0", "1"] {
+        let out = penumbra(
+            dir.path(),
+            &[
+                "render", s, "--camera", k, "--spp", "2", "--res", "32x32", "-o", "c.pfm",
+            ],
+        );
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        images.push(std::fs::read(dir.path().join("c.pfm")).unwrap());
+    }
+    assert_ne!(images[0], images[1], "the two cameras see the square differently");
+    let out = penumbra(dir.path(), &["render", s, "--camera", "2"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("--camera 2: the scene defines 2 cameras (0 to 1)"));
 }

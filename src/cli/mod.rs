@@ -92,6 +92,11 @@ pub struct RenderArgs {
     /// Stop tracing rays whose accumulated weight falls below this (default 1e-3).
     #[arg(long, value_parser = parse_non_negative)]
     pub min_weight: Option<f32>,
+    /// Which of the scene's cameras to render through, counting from 0 in the file's order
+    /// (glTF files may define several; the first is the default), with the image size it
+    /// asks for unless --res is given.
+    #[arg(long, value_name = "N")]
+    pub camera: Option<usize>,
     /// Image resolution, WIDTHxHEIGHT (e.g. 1280x720).
     #[arg(long, value_parser = parse_resolution, value_name = "WxH")]
     pub res: Option<(u32, u32)>,

@@ -42,6 +42,27 @@ fn pick<T>(
 }
 
 fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) -> Result<(), Failure> {
+    if let Some(k) = args.camera {
+        match desc.cameras.get(k) {
+            Some(choice) => {
+                desc.camera = choice.camera.clone();
+                (desc.render.width, desc.render.height) = (choice.width, choice.height);
+            }
+            None if k == 0 => {}
+            None => {
+                let n = desc.cameras.len().max(1);
+                return Err(bad(format!(
+                    "--camera {k}: the scene defines {n} camera{} (0{})",
+                    if n == 1 { "" } else { "s" },
+                    if n == 1 {
+                        String::new()
+                    } else {
+                        format!(" to {}", n - 1)
+                    }
+                )));
+            }
+        }
+    }
     let r = &mut desc.render;
     if let Some(spp) = args.spp {
         r.spp = spp;
@@ -123,7 +144,16 @@ fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
 fn fingerprint(scene: Option<&std::path::Path>, source: &[u8], desc: &SceneDesc) -> u64 {
     let mut render = desc.render.clone();
     render.spp = 0;
-    let settings = format!("{} {render:?} {:?}", env!("CARGO_PKG_VERSION"), desc.camera.kind);
+    let c = &desc.camera;
+    let settings = format!(
+        "{} {render:?} {:?} {} {} {} {}",
+        env!("CARGO_PKG_VERSION"),
+        c.kind,
+        c.position,
+        c.target,
+        c.up,
+        c.mirrored
+    );
     let mut h = fnv1a(settings.as_bytes(), fnv1a(source, 0xcbf2_9ce4_8422_2325));
     let dir = scene.and_then(|p| p.parent()).unwrap_or(std::path::Path::new("."));
     let text = String::from_utf8_lossy(source);

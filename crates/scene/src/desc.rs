@@ -23,6 +23,9 @@ pub struct SceneDesc {
     pub shapes: Vec<ShapeDesc>,
     pub lights: Vec<LightDesc>,
     pub environment: Option<EnvironmentDesc>,
+    /// Every camera of a file that defines several (glTF), in its order, with the image size
+    /// each asks for; `camera` is the first. Empty when the file defines one or none.
+    pub cameras: Vec<CameraChoice>,
     /// What the reader skipped or changed, for the user: each names the place in the file.
     pub warnings: Vec<String>,
 }
@@ -75,6 +78,14 @@ pub struct CameraDesc {
     /// left-handed camera (pbrt's), whose image is the mirror of a right-handed one's.
     pub mirrored: bool,
     pub location: Option<Location>,
+}
+
+/// One of a file's cameras, with the image size it asks for.
+#[derive(Clone, Debug)]
+pub struct CameraChoice {
+    pub camera: CameraDesc,
+    pub width: u32,
+    pub height: u32,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -241,6 +252,7 @@ impl SceneDesc {
             shapes: Vec::new(),
             lights: Vec::new(),
             environment: None,
+            cameras: Vec::new(),
             warnings: Vec::new(),
         }
     }

@@ -17,7 +17,7 @@ mod looks;
 pub(crate) mod tests;
 
 use super::bare_mesh;
-use crate::desc::{CameraDesc, CameraKind, LightDesc, RenderDesc, ShapeDesc, ShapeKind};
+use crate::desc::{CameraChoice, CameraDesc, CameraKind, LightDesc, RenderDesc, ShapeDesc, ShapeKind};
 use crate::{Location, SceneDesc, SceneError, SourceFile};
 use data::Buffers;
 use glam::{Mat4, Vec2, Vec3};
@@ -338,16 +338,27 @@ impl Reader {
         if !bounds.min.is_finite() || !bounds.max.is_finite() {
             return Err(SceneError::io(&self.file.path, "the scene has no triangles to draw"));
         }
-        match cameras.first() {
-            Some((camera, t, path)) => {
-                if cameras.len() > 1 {
+        let mut choices = Vec::new();
+        for (camera, t, _) in &cameras {
+            choices.push(self.camera(camera, t)?);
+        }
+        match choices.first() {
+            Some(first) => {
+                if let (true, Some((_, _, path))) = (choices.len() > 1, cameras.first()) {
                     self.warn(
                         "cameras",
                         path,
-                        format!("the scene has {} camera nodes: the first is used", cameras.len()),
+                        format!(
+                            "the scene has {} camera nodes: the first is the default (--camera N picks another, from 0)",
+                            choices.len()
+                        ),
                     );
                 }
-                self.camera(camera, t)?;
+                self.desc.camera = first.camera.clone();
+                (self.desc.render.width, self.desc.render.height) = (first.width, first.height);
+                if choices.len() > 1 {
+                    self.desc.cameras = choices;
+                }
             }
             None => self.desc.camera = bare_mesh::frame(bounds),
         }
@@ -517,7 +528,7 @@ impl Reader {
 
     /// The camera of a camera node placed by `t`: glTF's look down -z with +y up and +x to
     /// the right of the image.
-    fn camera(&mut self, camera: &gltf::Camera, t: &Transform) -> Result<()> {
+    fn camera(&mut self, camera: &gltf::Camera, t: &Transform) -> Result<CameraChoice> {
         let path = format!("cameras[{}]", camera.index());
         let bad = |what: &str| {
             Fail::new(
@@ -557,14 +568,18 @@ impl Reader {
             )));
         }
         let height = self.desc.render.height;
-        if let Some(a) = aspect {
-            self.desc.render.width = ((height as f32 * a).round() as u32).clamp(1, 16384);
-        }
+        let width = match aspect {
+            Some(a) => ((height as f32 * a).round() as u32).clamp(1, 16384),
+            None => self.desc.render.width,
+        };
         // Camera space to world: glTF's -z forward becomes the +z of `from_frame`.
         let flip = Transform::scale(Vec3::new(-1.0, 1.0, -1.0)).expect("a reflection is invertible");
         let location = Some(self.location(&path));
-        self.desc.camera = CameraDesc::from_frame(kind, &flip.then(*t), -1.0, location);
-        Ok(())
+        Ok(CameraChoice {
+            camera: CameraDesc::from_frame(kind, &flip.then(*t), -1.0, location),
+            width,
+            height,
+        })
     }
 
     /// A KHR_lights_punctual light on a node placed by `t` (lights shine down the node's -z).

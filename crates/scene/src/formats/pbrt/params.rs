@@ -184,6 +184,11 @@ impl Params {
             ("rgb" | "color", Values::Nums(v)) if v.len() == 3 => Rgb::new(v[0] as f32, v[1] as f32, v[2] as f32),
             ("float", Values::Nums(v)) if v.len() == 1 => Rgb::splat(v[0] as f32),
             ("blackbody", Values::Nums(v)) if v.len() == 1 && v[0] > 0.0 => unit(blackbody(v[0])),
+            // A constant spectrum: as a colour, that value; as a light, pbrt-v4's
+            // equal-energy white of unit luminance (every spectral light is normalised so).
+            ("spectrum", Values::Nums(v)) if v.len() == 1 && kind == ColorKind::Illuminant => {
+                unit(spectrum_to_rgb(&[(360.0, v[0]), (830.0, v[0])]))
+            }
             ("spectrum", Values::Nums(v)) if v.len() == 1 => Rgb::splat(v[0] as f32),
             ("spectrum", Values::Nums(v)) if v.len() >= 4 && v.len() % 2 == 0 => {
                 let samples: Vec<(f64, f64)> = v.chunks(2).map(|c| (c[0], c[1])).collect();
@@ -193,7 +198,7 @@ impl Params {
                 unit(spectrum_to_rgb(&samples))
             }
             ("spectrum", Values::Strs(v)) if v.len() == 1 => match named(&v[0]) {
-                Some(c) => c,
+                Some(c) => unit(c),
                 None => {
                     return Err(self.error(
                         p,

@@ -201,3 +201,24 @@ fn image_infinite_lights_read_pbrts_octahedral_maps() {
     let e = crate::build_scene(&desc).err().expect("not square").to_string();
     assert!(e.contains("env.pfm") && e.contains("square"), "{e}");
 }
+
+/// Lights given as spectra are normalised to unit luminance before `scale`, as pbrt-v4
+/// does: a constant spectrum of 7 is equal-energy white of luminance 1 (times 2 here),
+/// reddish in sRGB (illuminant E is warmer than D65); as a reflectance it stays 0.7.
+#[test]
+fn constant_spectrum_lights_have_unit_luminance() {
+    let scene = "WorldBegin\nLightSource \"point\" \"spectrum I\" [ 7 ] \"float scale\" 2\nMaterial \"diffuse\" \"spectrum reflectance\" [ 0.7 ]\nShape \"sphere\"\n";
+    let dir = folder(&[("a.pbrt", scene)]);
+    let desc = read(&dir.path().join("a.pbrt")).unwrap();
+    let crate::desc::LightDesc::Point { intensity: i, .. } = desc.lights[0] else {
+        panic!()
+    };
+    let y = 0.2126 * i.r + 0.7152 * i.g + 0.0722 * i.b;
+    assert!((y - 2.0).abs() < 1e-3 && i.r > i.b, "{i:?}");
+    let Material::TwoSided(m) = &desc.materials[0].material else {
+        panic!()
+    };
+    assert!(
+        matches!(**m, Material::Diffuse { reflectance: penumbra_render::Texture::Constant(c) } if c == penumbra_core::Rgb::splat(0.7))
+    );
+}
