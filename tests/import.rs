@@ -26,6 +26,27 @@ fn shared(rel: &str) -> Option<PathBuf> {
     }
 }
 
+/// Reads and builds each of `files` (under `scenes`), printing what it holds and warns of;
+/// the descriptions, in order.
+fn load_and_build(scenes: &std::path::Path, files: &[&str]) -> Vec<penumbra::scene::SceneDesc> {
+    files
+        .iter()
+        .map(|f| {
+            let desc = read_scene(&scenes.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+            assert!(!desc.shapes.is_empty(), "{f}: no shapes");
+            build_scene(&desc).unwrap_or_else(|e| panic!("{f}: {e}"));
+            println!(
+                "{f}: {} shapes, {} materials, {} lights, warnings {:?}",
+                desc.shapes.len(),
+                desc.materials.len(),
+                desc.lights.len(),
+                desc.warnings
+            );
+            desc
+        })
+        .collect()
+}
+
 #[test]
 fn every_shared_mitsuba_scene_loads_and_builds() {
     let Some(scenes) = shared("scenes") else { return };
@@ -38,18 +59,8 @@ fn every_shared_mitsuba_scene_loads_and_builds() {
         "mitsuba-veach-mis/integrator_direct_bsdf.xml",
         "mitsuba-veach-mis/integrator_direct_lum.xml",
     ];
-    for f in files {
-        let path = scenes.join(f);
-        let desc = read_scene(&path).unwrap_or_else(|e| panic!("{f}: {e}"));
-        assert!(!desc.shapes.is_empty(), "{f}: no shapes");
+    for (f, desc) in files.iter().zip(load_and_build(&scenes, &files)) {
         assert!(desc.shapes.iter().any(|s| s.emission.is_some()), "{f}: no area light");
-        build_scene(&desc).unwrap_or_else(|e| panic!("{f}: {e}"));
-        println!(
-            "{f}: {} shapes, {} materials, warnings {:?}",
-            desc.shapes.len(),
-            desc.materials.len(),
-            desc.warnings
-        );
     }
 }
 
@@ -95,23 +106,16 @@ fn the_reference_box_from_xml_matches_the_native_scene_and_mitsuba() {
 #[test]
 fn every_shared_pbrt_scene_loads_and_builds() {
     let Some(scenes) = shared("scenes") else { return };
-    for f in [
-        "pbrt-cornell-box/scene-v4.pbrt",
-        "pbrt-veach-mis/scene-v4.pbrt",
-        "pbrt-veach-bidir/scene-v4.pbrt",
-        "pbrt-caustic-glass/caustic-glass-v4.pbrt",
-        "pbrt-killeroos/killeroo-simple.pbrt",
-    ] {
-        let desc = read_scene(&scenes.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
-        assert!(!desc.shapes.is_empty(), "{f}: no shapes");
-        build_scene(&desc).unwrap_or_else(|e| panic!("{f}: {e}"));
-        println!(
-            "{f}: {} shapes, {} lights, warnings {:?}",
-            desc.shapes.len(),
-            desc.lights.len(),
-            desc.warnings
-        );
-    }
+    load_and_build(
+        &scenes,
+        &[
+            "pbrt-cornell-box/scene-v4.pbrt",
+            "pbrt-veach-mis/scene-v4.pbrt",
+            "pbrt-veach-bidir/scene-v4.pbrt",
+            "pbrt-caustic-glass/caustic-glass-v4.pbrt",
+            "pbrt-killeroos/killeroo-simple.pbrt",
+        ],
+    );
     // Two killeroo scenes include geometry/killeroo3.pbrt, which ../shared does not ship:
     // the error names the include and its place.
     for f in [
@@ -157,30 +161,41 @@ fn bitterlis_box_in_pbrt_and_mitsuba_form_renders_the_same() {
 }
 
 /// Every glTF scene of ../shared loads and builds; the textured box's three forms (separate
-/// files, GLB, data URIs) read to the same meshes and texture.
+/// files, GLB, data URIs) read to the same meshes and texture, with each form's wrap modes.
 #[test]
 fn every_shared_gltf_scene_loads_and_builds() {
     let Some(scenes) = shared("scenes") else { return };
     let mut boxes = Vec::new();
-    for f in [
+    let files = [
         "gltf-2CylinderEngine/glTF-Binary/2CylinderEngine.glb",
         "gltf-BoxTextured/glTF/BoxTextured.gltf",
         "gltf-BoxTextured/glTF-Binary/BoxTextured.glb",
         "gltf-BoxTextured/glTF-Embedded/BoxTextured.gltf",
         "gltf-Cameras/Cameras.gltf",
         "gltf-DamagedHelmet/glTF/DamagedHelmet.gltf",
-    ] {
-        let desc = read_scene(&scenes.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
-        assert!(!desc.shapes.is_empty(), "{f}: no shapes");
-        build_scene(&desc).unwrap_or_else(|e| panic!("{f}: {e}"));
-        println!(
-            "{f}: {} shapes, {} materials, warnings {:?}",
-            desc.shapes.len(),
-            desc.materials.len(),
-            desc.warnings
-        );
+    ];
+    for (f, desc) in files.iter().zip(load_and_build(&scenes, &files)) {
         if f.contains("BoxTextured") {
-            boxes.push(format!("{:?} {:?}", desc.shapes[0].kind, desc.materials));
+            use penumbra::renderer::{texture::Wrap, Material, Texture};
+            let Material::TwoSided(m) = &desc.materials[0].material else {
+                panic!("two-sided")
+            };
+            let Material::Plastic {
+                diffuse: Texture::Image { image, .. },
+                ..
+            } = &**m
+            else {
+                panic!("{m:?}")
+            };
+            // The separate-files form's sampler mirrors along u and clamps along v (so
+            // assimp's copy has it); the other two repeat.
+            let wrap = if f.ends_with("glTF/BoxTextured.gltf") {
+                [Wrap::Mirror, Wrap::Clamp]
+            } else {
+                [Wrap::Repeat, Wrap::Repeat]
+            };
+            assert_eq!(image.wrap, wrap, "{f}");
+            boxes.push(format!("{:?} {:?}", desc.shapes[0].kind, image.pixels));
         }
         if f.contains("DamagedHelmet") {
             let emission = desc.shapes[0].emission.as_ref().expect("the helmet's visor glows");

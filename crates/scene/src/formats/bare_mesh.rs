@@ -70,14 +70,7 @@ pub fn read(path: &Path) -> Result<SceneDesc, SceneError> {
         ));
     }
     let mut desc = SceneDesc::empty();
-    desc.render = RenderDesc {
-        width: 800,
-        height: 600,
-        spp: 64,
-        integrator: IntegratorKind::Path,
-        max_depth: 8,
-        ..RenderDesc::default()
-    };
+    desc.render = default_render();
     desc.camera = frame(bounds);
     let grey = Material::TwoSided(Box::new(Material::Diffuse {
         reflectance: Texture::Constant(Rgb::splat(0.7)),
@@ -99,6 +92,19 @@ pub fn read(path: &Path) -> Result<SceneDesc, SceneError> {
     default_lighting(&mut desc);
     desc.warnings = warnings;
     Ok(desc)
+}
+
+/// How a bare mesh (and a glTF scene, which says nothing of it) is rendered: path traced,
+/// 64 samples per pixel, 800 x 600, paths of up to 8 segments.
+pub(crate) fn default_render() -> RenderDesc {
+    RenderDesc {
+        width: 800,
+        height: 600,
+        spp: 64,
+        integrator: IntegratorKind::Path,
+        max_depth: 8,
+        ..RenderDesc::default()
+    }
 }
 
 /// A sky of radiance 0.3 and a key light of irradiance 1.5 from the upper left behind the

@@ -17,7 +17,7 @@ mod looks;
 pub(crate) mod tests;
 
 use super::bare_mesh;
-use crate::desc::{CameraChoice, CameraDesc, CameraKind, LightDesc, RenderDesc, ShapeDesc, ShapeKind};
+use crate::desc::{CameraChoice, CameraDesc, CameraKind, LightDesc, ShapeDesc, ShapeKind};
 use crate::{Location, SceneDesc, SceneError, SourceFile};
 use data::Buffers;
 use glam::{Mat4, Vec2, Vec3};
@@ -26,7 +26,6 @@ use gltf::mesh::{Mode, Semantic};
 use penumbra_core::{Aabb, Transform};
 use penumbra_geometry::TriangleMesh;
 use penumbra_render::cameras::FovAxis;
-use penumbra_render::integrators::IntegratorKind;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -327,14 +326,7 @@ impl Reader {
                 self.light(&light, &t, &path);
             }
         }
-        self.desc.render = RenderDesc {
-            width: 800,
-            height: 600,
-            spp: 64,
-            integrator: IntegratorKind::Path,
-            max_depth: 8,
-            ..RenderDesc::default()
-        };
+        self.desc.render = bare_mesh::default_render();
         if !bounds.min.is_finite() || !bounds.max.is_finite() {
             return Err(SceneError::io(&self.file.path, "the scene has no triangles to draw"));
         }
