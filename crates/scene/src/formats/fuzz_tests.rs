@@ -201,4 +201,11 @@ fn regressions() {
         e.contains("line 11, column 9: texture coordinate index -65535 is out of range: 1 defined before it"),
         "{e}"
     );
+    // A malformed number is located too (tobj's own error has no place).
+    std::fs::write(&path, OBJ.replace("v 1 1 0", "v 1 1e 0")).unwrap();
+    let e = read_scene(&path).expect_err("not a number").to_string();
+    assert!(
+        e.contains("line 4, column 5: `1e` in a `v` line is not a number"),
+        "{e}"
+    );
 }

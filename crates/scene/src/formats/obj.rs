@@ -27,7 +27,8 @@ fn read(path: &Path) -> Result<(Vec<tobj::Model>, tobj::MTLLoadResult), String> 
     Ok((models, materials.map(|m| (m, Default::default()))))
 }
 
-/// Checks every index of the face, line and point elements of OBJ `text` against the
+/// Checks that vertex, texture coordinate and normal lines hold numbers, and every index of
+/// the face, line and point elements of OBJ `text` against the
 /// vertices, texture coordinates and normals defined before it (one-based, or negative:
 /// counted back from the last), naming the line and column of the first that is out of
 /// range or not a number. (tobj, which reads the file next, assumes this.) An index of an
@@ -37,7 +38,19 @@ fn check_indices(text: &str) -> Result<(), String> {
     let mut counts = [0i64; 3];
     for (n, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
-        match words.next() {
+        let keyword = words.next();
+        if let Some(k @ ("v" | "vt" | "vn")) = keyword {
+            for word in words.clone() {
+                if word.parse::<f64>().is_err() {
+                    let column = word.as_ptr() as usize - line.as_ptr() as usize + 1;
+                    return Err(format!(
+                        "line {}, column {column}: `{word}` in a `{k}` line is not a number",
+                        n + 1
+                    ));
+                }
+            }
+        }
+        match keyword {
             Some("v") => counts[0] += 1,
             Some("vt") => counts[1] += 1,
             Some("vn") => counts[2] += 1,

@@ -334,6 +334,21 @@ pub fn texture(r: &mut Reader, class: &str, p: &Params, file: &SourceFile, here:
                 .map_err(|e| SceneError::at(here.clone(), e))?;
             crate::image_input::with_wrap(texture, [wrap; 2])
         }
+        "scale" => {
+            // `tex` times `scale`: a number (a texture as the scale is not supported).
+            if p.texture_name("scale").is_some() {
+                r.warn(
+                    "scale by texture",
+                    format!("{here}: a `scale` texture scaled by another texture is read unscaled"),
+                );
+            }
+            let factor = if p.texture_name("scale").is_some() {
+                1.0
+            } else {
+                p.float("scale", 1.0)?
+            };
+            scaled(texture_param(r, p, "tex", 1.0)?, factor)
+        }
         "checkerboard" => Texture::Checker {
             even: color(p, "tex1", ColorKind::Albedo)?.unwrap_or(Rgb::WHITE),
             odd: color(p, "tex2", ColorKind::Albedo)?.unwrap_or(Rgb::BLACK),
@@ -350,6 +365,25 @@ pub fn texture(r: &mut Reader, class: &str, p: &Params, file: &SourceFile, here:
     };
     unused(r, p, &format!("texture {class}"), &here);
     Ok(t)
+}
+
+/// `t` times `factor`.
+fn scaled(t: Texture, factor: f32) -> Texture {
+    match t {
+        Texture::Constant(c) => Texture::Constant(c * factor),
+        Texture::Checker { even, odd, size } => Texture::Checker {
+            even: even * factor,
+            odd: odd * factor,
+            size,
+        },
+        Texture::Image { image, scale } => Texture::Image {
+            image: std::sync::Arc::new(penumbra_render::texture::TextureImage {
+                pixels: image.pixels.iter().map(|&p| p * factor).collect(),
+                ..(*image).clone()
+            }),
+            scale,
+        },
+    }
 }
 
 /// A light's spectrum times `scale` (pbrt scales lights given as spectra to unit

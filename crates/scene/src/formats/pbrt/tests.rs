@@ -222,3 +222,25 @@ fn constant_spectrum_lights_have_unit_luminance() {
         matches!(**m, Material::Diffuse { reflectance: penumbra_render::Texture::Constant(c) } if c == penumbra_core::Rgb::splat(0.7))
     );
 }
+
+/// A `scale` texture multiplies its `tex` (a named texture or a value) by `scale`.
+#[test]
+fn scale_textures_multiply() {
+    let scene = "WorldBegin\nTexture \"c\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [ 0.8 0.6 0.4 ] \"rgb tex2\" [ 0.2 0.2 0.2 ]\nTexture \"s\" \"spectrum\" \"scale\" \"texture tex\" \"c\" \"float scale\" 0.5\nMaterial \"diffuse\" \"texture reflectance\" \"s\"\nShape \"sphere\"\n";
+    let dir = folder(&[("a.pbrt", scene)]);
+    let desc = read(&dir.path().join("a.pbrt")).unwrap_or_else(|e| panic!("{e}"));
+    assert!(desc.warnings.is_empty(), "{:?}", desc.warnings);
+    let Material::TwoSided(m) = &desc.materials[0].material else {
+        panic!()
+    };
+    let Material::Diffuse {
+        reflectance: penumbra_render::Texture::Checker { even, odd, .. },
+    } = &**m
+    else {
+        panic!("{m:?}")
+    };
+    assert_eq!(
+        (*even, *odd),
+        (penumbra_core::Rgb::new(0.4, 0.3, 0.2), penumbra_core::Rgb::splat(0.1))
+    );
+}
