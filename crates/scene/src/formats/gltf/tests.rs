@@ -1,4 +1,5 @@
 use super::*;
+use crate::desc::{CameraKind, LightDesc};
 use crate::formats::test_files::{error_at, folder};
 use base64::Engine;
 use penumbra_render::{Material, Texture};
