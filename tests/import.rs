@@ -26,6 +26,14 @@ fn shared(rel: &str) -> Option<PathBuf> {
     }
 }
 
+/// The image `desc` renders to, with its own settings.
+fn render_image(desc: &penumbra::scene::SceneDesc) -> Vec<penumbra::math::Rgb> {
+    penumbra::render(desc, penumbra::RenderControl::default())
+        .unwrap()
+        .film
+        .image()
+}
+
 /// Reads and builds each of `files` (under `scenes`), printing what it holds and warns of;
 /// the descriptions, in order.
 fn load_and_build(scenes: &std::path::Path, files: &[&str]) -> Vec<penumbra::scene::SceneDesc> {
@@ -88,13 +96,7 @@ fn the_reference_box_from_xml_matches_the_native_scene_and_mitsuba() {
     let mut native = penumbra::scene::formats::native::read(&file).unwrap();
     native.render.spp = 64;
     native.render.seed = 1;
-    let render = |d: &penumbra::scene::SceneDesc| {
-        penumbra::render(d, penumbra::RenderControl::default())
-            .unwrap()
-            .film
-            .image()
-    };
-    let (a, b) = (render(&from_xml), render(&native));
+    let (a, b) = (render_image(&from_xml), render_image(&native));
     let to_ref = compare(&a, &reference.pixels);
     let between = compare(&a, &b);
     println!("xml vs reference {to_ref:?}\nxml vs native {between:?}");
@@ -144,10 +146,7 @@ fn bitterlis_box_in_pbrt_and_mitsuba_form_renders_the_same() {
     let render = |path: &PathBuf, seed: u64| {
         let mut d = read_scene(path).unwrap();
         (d.render.width, d.render.height, d.render.spp, d.render.seed) = (128, 128, 64, seed);
-        penumbra::render(&d, penumbra::RenderControl::default())
-            .unwrap()
-            .film
-            .image()
+        render_image(&d)
     };
     let (a, b, b2) = (render(&pbrt, 1), render(&xml, 2), render(&xml, 3));
     let across = compare(&a, &b);
@@ -246,10 +245,7 @@ fn bitterlis_box_converges_to_its_references() {
         let mut errors = Vec::new();
         for spp in [32, 128] {
             d.render.spp = spp;
-            let image = penumbra::render(&d, penumbra::RenderControl::default())
-                .unwrap()
-                .film
-                .image();
+            let image = render_image(&d);
             let e = compare(&image, &reference);
             println!("{}, {spp} spp: {e:?}", scene.display());
             assert!(e.mean_ratio.iter().all(|r| (r - 1.0).abs() < 0.01), "{e:?}");

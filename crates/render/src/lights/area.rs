@@ -46,25 +46,31 @@ pub struct EmissionTexture {
 }
 
 impl EmissionTexture {
+    /// The texture coordinates at barycentric coordinates (b1, b2) of the triangle.
+    fn uv_at(&self, b1: f32, b2: f32) -> Vec2 {
+        self.uvs[0] * (1.0 - b1 - b2) + self.uvs[1] * b1 + self.uvs[2] * b2
+    }
+
     /// Estimates the mean over the triangle from the texture at the 45 points of a
     /// barycentric lattice of step 1/8 (it only weighs the choice of lights, so an estimate
     /// costs variance, never bias).
     pub fn new(texture: Texture, uvs: [Vec2; 3]) -> Self {
         const K: usize = 8;
+        let mut t = EmissionTexture {
+            texture,
+            uvs,
+            mean: 0.0,
+        };
         let (mut sum, mut n) = (0.0, 0);
         for i in 0..=K {
             for j in 0..=K - i {
-                let (b1, b2) = (i as f32 / K as f32, j as f32 / K as f32);
-                let uv = uvs[0] * (1.0 - b1 - b2) + uvs[1] * b1 + uvs[2] * b2;
-                sum += texture.eval(uv).luminance().max(0.0);
+                let uv = t.uv_at(i as f32 / K as f32, j as f32 / K as f32);
+                sum += t.texture.eval(uv).luminance().max(0.0);
                 n += 1;
             }
         }
-        EmissionTexture {
-            texture,
-            uvs,
-            mean: sum / n as f32,
-        }
+        t.mean = sum / n as f32;
+        t
     }
 }
 
@@ -74,13 +80,16 @@ impl AreaLight {
         if !(self.two_sided || normal.dot(w) > 0.0) {
             return Rgb::BLACK;
         }
-        match (&self.texture, self.emitter.triangle_parts()) {
-            (Some(t), Some((v, _, _))) => {
+        // (Untextured lights, nearly all, return before any geometry is looked at.)
+        let Some(t) = &self.texture else {
+            return self.radiance;
+        };
+        match self.emitter.triangle_parts() {
+            Some((v, _, _)) => {
                 let (b1, b2) = barycentric(v, point);
-                let uv = t.uvs[0] * (1.0 - b1 - b2) + t.uvs[1] * b1 + t.uvs[2] * b2;
-                self.radiance * t.texture.eval(uv)
+                self.radiance * t.texture.eval(t.uv_at(b1, b2))
             }
-            _ => self.radiance,
+            None => self.radiance,
         }
     }
 
