@@ -98,16 +98,17 @@ mod tests {
     }
 
     /// The equirectangular map shows, in each direction, what the octahedral map holds
-    /// there: a map bright only in the cell around +x is bright at φ = 90°, θ = 90° (our
-    /// +x) and dark at the opposite side.
+    /// there: a map bright only around +x and +y is bright at φ = 90°, θ = 90° (our +x)
+    /// and at θ = 0 (our +y), and dark opposite them.
     #[test]
     fn resampling_keeps_directions() {
         let n = 32;
         let pixels = (0..n * n)
             .map(|i| {
                 let st = Vec2::new(((i % n) as f32 + 0.5) / n as f32, ((i / n) as f32 + 0.5) / n as f32);
-                // Bright around pbrt's +x: (1, 0.5) in (x right, y down).
-                if (st - Vec2::new(0.97, 0.5)).length() < 0.06 {
+                // Bright around pbrt's +x, (1, 0.5) in (x right, y down), and its +y,
+                // (0.5, 1): the bottom edge's middle (this one checks the rows' direction).
+                if (st - Vec2::new(0.97, 0.5)).length() < 0.06 || (st - Vec2::new(0.5, 0.97)).length() < 0.06 {
                     Rgb::WHITE
                 } else {
                     Rgb::BLACK
@@ -130,6 +131,9 @@ mod tests {
         };
         assert!(at(90.0, 90.0) > 0.9, "{}", at(90.0, 90.0));
         assert_eq!(at(270.0, 90.0), 0.0);
-        assert_eq!(at(0.0, 10.0), 0.0);
+        assert_eq!(at(0.0, 30.0), 0.0);
+        // pbrt's +y is ours: straight up (θ = 0), not down.
+        assert!(at(45.0, 3.0) > 0.9, "{}", at(45.0, 3.0));
+        assert_eq!(at(45.0, 177.0), 0.0);
     }
 }

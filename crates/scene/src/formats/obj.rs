@@ -61,8 +61,10 @@ fn check_indices(text: &str) -> Result<(), String> {
                         if part.is_empty() && k > 0 {
                             continue;
                         }
-                        let at = format!("line {}, column {column}", n + 1);
+                        // (The place is written out only for an error: this runs per index.)
+                        let at = || format!("line {}, column {column}", n + 1);
                         let i: i64 = part.parse().map_err(|_| {
+                            let at = at();
                             format!("{at}: `{word}` is not a vertex reference (v, v/vt, v/vt/vn or v//vn)")
                         })?;
                         let count = counts[k];
@@ -72,7 +74,8 @@ fn check_indices(text: &str) -> Result<(), String> {
                         let index = if i < 0 { count.saturating_add(i) } else { i - 1 };
                         if i == 0 || !(0..count).contains(&index) {
                             return Err(format!(
-                                "{at}: {} index {i} is out of range: {count} defined before it",
+                                "{}: {} index {i} is out of range: {count} defined before it",
+                                at(),
                                 names[k]
                             ));
                         }

@@ -93,10 +93,9 @@ pub fn load(path: &Path) -> Result<TriangleMesh, String> {
                 idx[j]
             ));
         }
-        let to_u32 = |x: i64| x as u32;
-        let first = to_u32(idx[0]);
+        let first = idx[0] as u32;
         for k in 1..idx.len() - 1 {
-            mesh.indices.push([first, to_u32(idx[k]), to_u32(idx[k + 1])]);
+            mesh.indices.push([first, idx[k] as u32, idx[k + 1] as u32]);
         }
     }
     if mesh.indices.is_empty() {
@@ -125,7 +124,7 @@ fn place(path: &Path, header: &Header, element: &str, i: usize, token: usize) ->
         return format!("{element} {i}");
     };
     let number = header_end + 1 + before + i;
-    let line = text.lines().nth(number).unwrap_or("");
+    let line = lines.nth(before + i).map_or("", |(_, l)| l);
     let column = line
         .split_whitespace()
         .nth(token)

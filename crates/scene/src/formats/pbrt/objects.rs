@@ -220,12 +220,12 @@ pub fn material(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Resul
             let copper = metal_ior("Cu").expect("copper is in the table");
             let eta = color(p, &format!("{prefix}eta"), ColorKind::Albedo)?.unwrap_or(copper.0);
             let k = color(p, &format!("{prefix}k"), ColorKind::Albedo)?.unwrap_or(copper.1);
-            if color(p, "reflectance", ColorKind::Albedo)?.is_some() {
-                r.warn(
-                    "conductor.reflectance",
-                    format!("{here}: a conductor's `reflectance` is not supported: eta and k are used"),
-                );
-            }
+            // A `reflectance` instead of eta and k: pbrt-v4 derives an index from it; we
+            // take it as the reflectance at normal incidence of Schlick's Fresnel term.
+            let (fresnel, specular) = match color(p, &format!("{prefix}reflectance"), ColorKind::Albedo)? {
+                Some(f0) => (MetalFresnel::Schlick, f0),
+                None => (MetalFresnel::Complex { eta, k }, Rgb::WHITE),
+            };
             let roughness = if kind == "coatedconductor" {
                 let au = p.float("conductor.roughness", 0.0)?;
                 (au > 0.0).then(|| Roughness::isotropic(au.sqrt()))
@@ -233,8 +233,8 @@ pub fn material(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Resul
                 roughness(p)?
             };
             Material::Conductor {
-                fresnel: MetalFresnel::Complex { eta, k },
-                specular: Texture::Constant(Rgb::WHITE),
+                fresnel,
+                specular: Texture::Constant(specular),
                 roughness,
             }
         }

@@ -173,7 +173,7 @@ impl Params {
         p.used.set(true);
         let unit = |rgb: Rgb| {
             if kind == ColorKind::Illuminant {
-                let y = 0.2126 * rgb.r + 0.7152 * rgb.g + 0.0722 * rgb.b;
+                let y = rgb.luminance();
                 if y > 0.0 {
                     return rgb * (1.0 / y);
                 }

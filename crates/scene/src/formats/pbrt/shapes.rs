@@ -64,8 +64,10 @@ pub fn shape(r: &mut Reader, kind: &str, p: &Params, file: &SourceFile, here: Lo
         }
     };
     if kind == "sphere" {
-        for partial in ["zmin", "zmax", "phimax"] {
-            if p.float(partial, 0.0).is_ok_and(|v| v != 0.0) {
+        // pbrt's defaults: the whole sphere (zmin -radius, zmax radius, phimax 360).
+        let radius = p.float("radius", 1.0)?;
+        for (partial, whole) in [("zmin", -radius), ("zmax", radius), ("phimax", 360.0)] {
+            if p.float(partial, whole)? != whole {
                 r.warn(
                     "partial sphere",
                     format!("{here}: partial spheres (zmin, zmax, phimax) are rendered whole"),

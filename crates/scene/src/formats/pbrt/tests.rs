@@ -244,3 +244,21 @@ fn scale_textures_multiply() {
         (penumbra_core::Rgb::new(0.4, 0.3, 0.2), penumbra_core::Rgb::splat(0.1))
     );
 }
+
+/// Review finds: an escaped non-ASCII character in a string is read whole (it panicked
+/// mid-character); a conductor given a `reflectance` reflects it at normal incidence
+/// (Schlick) instead of copper; an explicit whole sphere does not warn.
+#[test]
+fn escapes_reflectance_conductors_and_whole_spheres() {
+    let scene = "WorldBegin\nMakeNamedMaterial \"a\\é\" \"string type\" \"conductor\" \"rgb reflectance\" [ 0.9 0.6 0.3 ]\nNamedMaterial \"aé\"\nShape \"sphere\" \"float radius\" 2 \"float zmax\" 2 \"float phimax\" 360\n";
+    let dir = folder(&[("a.pbrt", scene)]);
+    let desc = read(&dir.path().join("a.pbrt")).unwrap_or_else(|e| panic!("{e}"));
+    assert!(desc.warnings.is_empty(), "{:?}", desc.warnings);
+    let Material::TwoSided(m) = &desc.materials[0].material else {
+        panic!()
+    };
+    assert!(
+        matches!(&**m, Material::Conductor { fresnel: penumbra_render::bsdfs::MetalFresnel::Schlick, specular: penumbra_render::Texture::Constant(c), .. } if *c == penumbra_core::Rgb::new(0.9, 0.6, 0.3)),
+        "{m:?}"
+    );
+}

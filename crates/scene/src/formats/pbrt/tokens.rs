@@ -47,14 +47,16 @@ pub fn tokenize(text: &str) -> Result<Vec<Token>, (Range<usize>, String)> {
                         None | Some(b'\n') => return Err((start..i, "a string that never ends".into())),
                         Some(b'"') => break,
                         Some(b'\\') => {
-                            let escaped = match bytes.get(i + 1) {
-                                Some(b'n') => '\n',
-                                Some(b't') => '\t',
-                                Some(&b) => b as char,
-                                None => return Err((start..i, "a string that never ends".into())),
+                            // The escaped character may be any UTF-8 character, not one byte.
+                            let Some(next) = text[i + 1..].chars().next() else {
+                                return Err((start..i, "a string that never ends".into()));
                             };
-                            s.push(escaped);
-                            i += 2;
+                            s.push(match next {
+                                'n' => '\n',
+                                't' => '\t',
+                                c => c,
+                            });
+                            i += 1 + next.len_utf8();
                         }
                         Some(_) => {
                             let ch = text[i..].chars().next().expect("inside the text");
