@@ -4,16 +4,17 @@
 //!
 //! Written beside the output as `<output>.state`, atomically (a temporary file renamed into
 //! place), at every checkpoint and at the end. Little-endian binary:
-//! `PENUMBRA-STATE 1\n`, then u64 fingerprint, u32 width, height, samples per pixel,
-//! planned spp, u8 has-AOVs, u64 rejected, then per pixel 4 f64 (R, G, B, weight sums) and,
-//! with AOVs, 7 f64 more.
+//! `PENUMBRA-STATE 2\n`, then u64 fingerprint, u32 width, height, samples per pixel,
+//! planned spp, u8 has-AOVs, u8 has-splats, u64 rejected, then per pixel 4 f64 (R, G, B,
+//! weight sums); with AOVs, 7 f64 more per pixel; with splats, 3 f64 more per pixel (the
+//! splat layer's sums).
 
 use penumbra_render::film::{FilmPixel, AOV_CHANNELS};
 use penumbra_render::Film;
 use std::io::{self, Read, Write};
 use std::path::{Path, PathBuf};
 
-const MAGIC: &[u8] = b"PENUMBRA-STATE 1\n";
+const MAGIC: &[u8] = b"PENUMBRA-STATE 2\n";
 
 /// A saved render.
 pub struct SavedRender {
@@ -40,7 +41,7 @@ pub fn write_state(path: &Path, film: &Film, planned_spp: u32, fingerprint: u64)
         for v in [film.width, film.height, film.samples_per_pixel, planned_spp] {
             w.write_all(&v.to_le_bytes())?;
         }
-        w.write_all(&[film.aovs.is_some() as u8])?;
+        w.write_all(&[film.aovs.is_some() as u8, !film.splats.is_empty() as u8])?;
         w.write_all(&film.rejected.to_le_bytes())?;
         for p in film.pixels() {
             for v in [p.sum[0], p.sum[1], p.sum[2], p.weight] {
@@ -51,6 +52,9 @@ pub fn write_state(path: &Path, film: &Film, planned_spp: u32, fingerprint: u64)
             for v in a {
                 w.write_all(&v.to_le_bytes())?;
             }
+        }
+        for v in film.splats.iter().flatten() {
+            w.write_all(&v.to_le_bytes())?;
         }
         w.flush()
     })
@@ -80,7 +84,7 @@ pub fn read_state(path: &Path) -> io::Result<SavedRender> {
         *v = u32::from_le_bytes(b);
     }
     let [width, height, samples_per_pixel, planned_spp] = u32s;
-    let mut flag = [0u8; 1];
+    let mut flag = [0u8; 2];
     r.read_exact(&mut flag).map_err(truncated)?;
     let rejected = u64s(&mut r).map_err(truncated)?;
     let n = width as u64 * height as u64;
@@ -107,6 +111,12 @@ pub fn read_state(path: &Path) -> io::Result<SavedRender> {
             for x in a.iter_mut().take(AOV_CHANNELS) {
                 *x = f64s(&mut r).map_err(truncated)?;
             }
+        }
+    }
+    if flag[1] != 0 {
+        film.splats = vec![[0.0; 3]; n as usize];
+        for x in film.splats.iter_mut().flatten() {
+            *x = f64s(&mut r).map_err(truncated)?;
         }
     }
     if r.read(&mut [0u8; 1])? != 0 {

@@ -80,7 +80,14 @@ fn direct_lighting_is_identical_for_any_thread_count() {
 struct Broken;
 
 impl Integrator for Broken {
-    fn li(&self, _: &Scene, _: &penumbra::math::Ray, s: &mut penumbra::math::PixelSampler, _: &mut RayCounts) -> Rgb {
+    fn li(
+        &self,
+        _: &Scene,
+        _: &penumbra::math::Ray,
+        s: &mut penumbra::math::PixelSampler,
+        _: &mut RayCounts,
+        _: &mut Vec<penumbra::renderer::integrators::Splat>,
+    ) -> Rgb {
         match s.next_1d() {
             u if u < 0.1 => Rgb::splat(f32::NAN),
             u if u < 0.2 => Rgb::new(1.0, f32::INFINITY, 0.0),
@@ -116,7 +123,14 @@ fn the_film_refuses_nan_and_infinite_samples_and_counts_them() {
 struct Constant;
 
 impl Integrator for Constant {
-    fn li(&self, _: &Scene, _: &penumbra::math::Ray, _: &mut penumbra::math::PixelSampler, _: &mut RayCounts) -> Rgb {
+    fn li(
+        &self,
+        _: &Scene,
+        _: &penumbra::math::Ray,
+        _: &mut penumbra::math::PixelSampler,
+        _: &mut RayCounts,
+        _: &mut Vec<penumbra::renderer::integrators::Splat>,
+    ) -> Rgb {
         Rgb::new(0.25, 0.5, 2.0)
     }
 }

@@ -76,7 +76,7 @@ fn estimate_from(origin: Vec3, scene: &Scene, direct: DirectOptions, n: u32) -> 
     let mut m = MeanEstimate::default();
     for i in 0..n {
         sampler.start(UVec2::new(i % 997, i / 997), i);
-        m.push(integrator.li(scene, &ray, &mut sampler, &mut counts).g as f64);
+        m.push(integrator.li(scene, &ray, &mut sampler, &mut counts, &mut Vec::new()).g as f64);
     }
     (m.mean(), m.standard_error())
 }
@@ -310,10 +310,10 @@ fn the_camera_sees_an_emitter_s_radiance_from_its_front_only() {
         let integrator = kind.create(IntegratorOptions::default());
         let mut sampler = PixelSampler::new(SamplerKind::Independent, 1, 1);
         let mut counts = RayCounts::default();
-        let front = integrator.li(&scene, &up, &mut sampler, &mut counts);
+        let front = integrator.li(&scene, &up, &mut sampler, &mut counts, &mut Vec::new());
         assert_eq!(front, penumbra::math::Rgb::splat(RADIANCE), "{kind:?} from below");
         // From above, the back of the (black) light: no emission, no reflection.
-        let back = integrator.li(&scene, &down, &mut sampler, &mut counts);
+        let back = integrator.li(&scene, &down, &mut sampler, &mut counts, &mut Vec::new());
         assert_eq!(back, penumbra::math::Rgb::BLACK, "{kind:?} from above");
     }
 }

@@ -50,7 +50,13 @@ fn estimate_with(scene: &Scene, options: IntegratorOptions, n: u32) -> (f64, f64
         let dir = Vec3::new((3.0 * a).cos(), (5.0 * b).sin(), (7.0 * a).sin() + 0.1);
         m.push(
             integrator
-                .li(scene, &Ray::new(origin, dir), &mut sampler, &mut counts)
+                .li(
+                    scene,
+                    &Ray::new(origin, dir),
+                    &mut sampler,
+                    &mut counts,
+                    &mut Vec::new(),
+                )
                 .r as f64,
         );
     }
@@ -138,7 +144,13 @@ fn furnace_with_every_light_selection() {
             let dir = Vec3::new((3.0 * a).cos(), (5.0 * b).sin(), (7.0 * a).sin() + 0.1);
             m.push(
                 integrator
-                    .li(&scene, &Ray::new(origin, dir), &mut sampler, &mut counts)
+                    .li(
+                        &scene,
+                        &Ray::new(origin, dir),
+                        &mut sampler,
+                        &mut counts,
+                        &mut Vec::new(),
+                    )
                     .r as f64,
             );
         }
@@ -176,7 +188,11 @@ fn direct_strategies_inside_the_furnace_give_one_bounce() {
             let mut m = MeanEstimate::default();
             for i in 0..n {
                 sampler.start(UVec2::new(i % 1009, i / 1009), i);
-                m.push(integrator.li(&scene, &Ray::new(o, d), &mut sampler, &mut counts).r as f64);
+                m.push(
+                    integrator
+                        .li(&scene, &Ray::new(o, d), &mut sampler, &mut counts, &mut Vec::new())
+                        .r as f64,
+                );
             }
             let (mean, se) = (m.mean(), m.standard_error());
             assert_within_3se(&format!("{s:?} from {o}"), mean, se, 1.5, 1e-4);
@@ -208,7 +224,13 @@ fn the_back_of_a_one_sided_light_is_black_everywhere() {
             let (a, b) = ((i as f32 * 0.618_034).fract(), (i as f32 * 0.414_214).fract());
             let target = Vec3::new(-0.23 + 0.46 * a, 0.99, -0.18 + 0.38 * b);
             let origin = Vec3::new(0.1, 1.5, 0.05);
-            let l = integrator.li(&scene, &Ray::new(origin, target - origin), &mut sampler, &mut counts);
+            let l = integrator.li(
+                &scene,
+                &Ray::new(origin, target - origin),
+                &mut sampler,
+                &mut counts,
+                &mut Vec::new(),
+            );
             assert_eq!(l, penumbra::math::Rgb::BLACK, "{kind:?}: ray {i} to {target}");
         }
     }
@@ -249,7 +271,13 @@ fn ball_in_furnace(material: &str, max_depth: u32, n: u32) -> (f64, f64) {
         let dir = Vec3::new(1.6 * a, 1.6 * b, -2.5);
         m.push(
             integrator
-                .li(&scene, &Ray::new(origin, dir), &mut sampler, &mut counts)
+                .li(
+                    &scene,
+                    &Ray::new(origin, dir),
+                    &mut sampler,
+                    &mut counts,
+                    &mut Vec::new(),
+                )
                 .r as f64,
         );
     }
@@ -331,7 +359,13 @@ fn estimate_towards(scene: &Scene, origin: Vec3, target: Vec3, spread: f32, n: u
         let dir = target + Vec3::new(spread * a, 0.0, spread * b) - origin;
         m.push(
             integrator
-                .li(scene, &Ray::new(origin, dir), &mut sampler, &mut counts)
+                .li(
+                    scene,
+                    &Ray::new(origin, dir),
+                    &mut sampler,
+                    &mut counts,
+                    &mut Vec::new(),
+                )
                 .r as f64,
         );
     }
@@ -469,7 +503,7 @@ fn diffuse_lanes_equal_the_scalar_bounce() {
             let next = |eight_wide: bool| {
                 let mut s = PixelSampler::new(sampler, 3, 64);
                 s.start(UVec2::new(i, 1), i);
-                let l = tracer(eight_wide).li(&scene, &camera, &mut s, &mut RayCounts::default());
+                let l = tracer(eight_wide).li(&scene, &camera, &mut s, &mut RayCounts::default(), &mut Vec::new());
                 (l, s.next_1d())
             };
             assert_eq!(next(true), next(false), "{name}: sample {i}");

@@ -20,6 +20,7 @@
 
 use crate::film::{add_aov, Pixel, AOV_CHANNELS};
 use crate::filter::{FilterSampler, FilterTable};
+use crate::integrators::Splat;
 use crate::integrators::BATCH;
 use crate::{Film, Integrator, RayCounts, Scene};
 use glam::{UVec2, Vec2};
@@ -99,6 +100,8 @@ struct Tile {
 struct TileResult {
     /// The tile's pixels and a margin of `margin` pixels on every side, row by row.
     pixels: Vec<Pixel>,
+    /// What the tile's samples add to film pixels (index, value), filter weights applied.
+    splats: Vec<(u32, Rgb)>,
     aovs: Vec<[f32; AOV_CHANNELS]>,
     rejected: u64,
     rays: RayCounts,
@@ -177,16 +180,60 @@ struct Filters {
     splat: Option<FilterTable>,
     /// Pixels a splat reaches beyond a tile's edge (0 without splatting).
     margin: u32,
+    /// The filter for the film's splat layer, whatever its width, and the factor that
+    /// makes it integrate to one (each of a pixel's samples estimates the pixel's value
+    /// through the normalised filter, by sampling or as a weighted mean).
+    layer: (FilterTable, f32),
 }
 
 impl Filters {
     fn new(scene: &Scene) -> Self {
         let radius = scene.filter.radius();
         let splat = radius > 0.5;
+        let table = FilterTable::new(&scene.filter);
+        // ∫ f over [-r, r] by the trapezoid rule on 4096 intervals.
+        let n = 4096;
+        let step = 2.0 * radius as f64 / n as f64;
+        let integral: f64 = (0..=n)
+            .map(|i| {
+                let w = if i == 0 || i == n { 0.5 } else { 1.0 };
+                w * scene.filter.eval_1d((-radius as f64 + i as f64 * step) as f32) as f64
+            })
+            .sum::<f64>()
+            * step;
+        let norm = if integral > 0.0 {
+            (1.0 / (integral * integral)) as f32
+        } else {
+            0.0
+        };
         Filters {
             sampler: FilterSampler::new(scene.filter),
-            splat: splat.then(|| FilterTable::new(&scene.filter)),
+            splat: splat.then(|| table.clone()),
             margin: if splat { (radius - 0.5).ceil() as u32 } else { 0 },
+            layer: (table, norm),
+        }
+    }
+
+    /// Adds `value`, landing at film position `film`, to every pixel of a `width` x
+    /// `height` film within the filter's radius, with the normalised filter's weight.
+    fn splat(&self, film: Vec2, value: Rgb, (width, height): (u32, u32), out: &mut Vec<(u32, Rgb)>) {
+        let (table, norm) = &self.layer;
+        let r = table.radius();
+        let lo = (film - Vec2::splat(r + 0.5)).ceil().max(Vec2::ZERO);
+        let hi = (film + Vec2::splat(r - 0.5)).floor();
+        if hi.x < 0.0 || hi.y < 0.0 {
+            return;
+        }
+        let x1 = (hi.x as u32).min(width - 1);
+        let y1 = (hi.y as u32).min(height - 1);
+        for py in lo.y as u32..=y1 {
+            let wy = table.eval(py as f32 + 0.5 - film.y) * norm;
+            for px in lo.x as u32..=x1 {
+                let w = wy * table.eval(px as f32 + 0.5 - film.x);
+                if w != 0.0 {
+                    out.push((py * width + px, value * w));
+                }
+            }
         }
     }
 }
@@ -204,14 +251,26 @@ fn render_pass(
     progress: &dyn Progress,
 ) -> RayCounts {
     let margin = filter.margin;
-    let results: Vec<TileResult> = tiles
-        .par_iter()
-        .map_init(Scratch::default, |scratch, tile| {
-            let result = render_tile(scene, integrator, options, filter, tile, index, scratch);
-            progress.advance((tile.size.x * tile.size.y) as u64, result.rays.total());
-            result
-        })
-        .collect();
+    // Tiles in chunks, whose splats are added to the film before the next chunk starts:
+    // the splat lists held at once stay bounded whatever the image size.
+    let mut results: Vec<TileResult> = Vec::with_capacity(tiles.len());
+    for chunk in tiles.chunks(SPLAT_CHUNK) {
+        let mut done: Vec<TileResult> = chunk
+            .par_iter()
+            .map_init(Scratch::default, |scratch, tile| {
+                let result = render_tile(scene, integrator, options, filter, tile, index, scratch);
+                progress.advance((tile.size.x * tile.size.y) as u64, result.rays.total());
+                result
+            })
+            .collect();
+        for r in &mut done {
+            for &(i, v) in &r.splats {
+                film.add_splat(i as usize, v);
+            }
+            r.splats = Vec::new();
+        }
+        results.extend(done);
+    }
     let mut rays = RayCounts::default();
     for r in &results {
         rays.add(&r.rays);
@@ -226,6 +285,10 @@ fn render_pass(
     film.samples_per_pixel += 1;
     rays
 }
+
+/// Tiles rendered before their splats are added to the film: at the default tile size
+/// 65,536 pixel samples, each with at most `max_depth` splats (a few, after the filter's).
+const SPLAT_CHUNK: usize = 256;
 
 /// For each film row, the tiles whose buffers (each with a margin of `margin` pixels)
 /// reach it, in tile order.
@@ -292,6 +355,8 @@ struct Scratch {
     radiance: Vec<Rgb>,
     draws: Vec<(Vec2, Vec2)>,
     column_weights: Vec<f32>,
+    /// The splats of a batch, as the integrator makes them.
+    splats: Vec<Splat>,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -322,6 +387,7 @@ fn render_tile(
     };
     let mut rays = RayCounts::default();
     let mut rejected = 0;
+    let mut splats = Vec::new();
     // The tile's pixels in row order, in batches handed to the integrator together.
     let pixel_count = (tile.size.x * tile.size.y) as usize;
     let Scratch {
@@ -330,6 +396,7 @@ fn render_tile(
         film_positions,
         radiance,
         draws,
+        splats: batch_splats,
         ..
     } = scratch;
     let batch_size = BATCH.min(pixel_count);
@@ -374,13 +441,22 @@ fn render_tile(
             film_positions.push((pixel - tile.origin, film_pos, weight));
         }
         rays.camera += lanes as u64;
+        batch_splats.clear();
         integrator.li_batch(
             scene,
             rays_in,
             &mut samplers[..lanes],
             &mut radiance[..lanes],
             &mut rays,
+            batch_splats,
         );
+        for s in batch_splats.iter() {
+            if s.value.is_finite() {
+                filter.splat(s.film, s.value, (scene.width, scene.height), &mut splats);
+            } else {
+                rejected += 1;
+            }
+        }
         for ((&(UVec2 { x, y }, film_pos, weight), &l), ray) in
             film_positions.iter().zip(radiance.iter()).zip(rays_in.iter())
         {
@@ -423,6 +499,7 @@ fn render_tile(
     }
     TileResult {
         pixels,
+        splats,
         aovs,
         rejected,
         rays,

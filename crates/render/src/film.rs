@@ -2,6 +2,13 @@
 //! when asked for), the number of samples per pixel, and a count of rejected (NaN or
 //! infinite) samples. Tiles accumulate one pass in single precision ([`Pixel`]); the film
 //! adds the passes in double precision ([`Film`]).
+//!
+//! Beside the filtered sums, a splat layer takes what samples add to pixels other than
+//! their own (light paths connected to the camera, Veach 1997 section 10.2): each pass
+//! traces one light path per pixel sample, and the camera's importance is normalised over
+//! the whole film, so a pixel's splats summed over a pass estimate its value, and the
+//! image is the filtered mean plus the splat sum over the samples per pixel. The driver
+//! adds a pass's splats tile by tile in tile order, so the sums do not depend on threads.
 
 use glam::Vec4;
 use penumbra_core::Rgb;
@@ -95,6 +102,16 @@ pub struct Film {
     pub samples_per_pixel: u32,
     /// Samples dropped because their radiance was not finite.
     pub rejected: u64,
+    /// Sums of the splats each pixel received (empty until the first splat).
+    pub splats: Vec<[f64; 3]>,
+}
+
+/// What a sample adds to some pixel of the film, at film position `film` (pixels), beside
+/// its own radiance estimate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Splat {
+    pub film: glam::Vec2,
+    pub value: Rgb,
 }
 
 impl Film {
@@ -107,6 +124,17 @@ impl Film {
             aovs: aovs.then(|| vec![[0.0; AOV_CHANNELS]; n]),
             samples_per_pixel: 0,
             rejected: 0,
+            splats: Vec::new(),
+        }
+    }
+
+    /// Adds `value` to the splat sum of pixel `index` (row by row from the top).
+    pub fn add_splat(&mut self, index: usize, value: Rgb) {
+        if self.splats.is_empty() {
+            self.splats = vec![[0.0; 3]; self.pixels.len()];
+        }
+        for (s, v) in self.splats[index].iter_mut().zip(value.to_array()) {
+            *s += v as f64;
         }
     }
 
@@ -126,9 +154,21 @@ impl Film {
         &mut self.pixels
     }
 
-    /// The image: every pixel's estimate, row by row from the top.
+    /// The image: every pixel's estimate (its filtered mean plus its splats per sample),
+    /// row by row from the top.
     pub fn image(&self) -> Vec<Rgb> {
-        self.pixels.iter().map(FilmPixel::value).collect()
+        let per_sample = 1.0 / self.samples_per_pixel.max(1) as f64;
+        self.pixels
+            .iter()
+            .enumerate()
+            .map(|(i, p)| match self.splats.get(i) {
+                Some(s) => {
+                    let [r, g, b] = s.map(|s| (s * per_sample) as f32);
+                    p.value() + Rgb::new(r, g, b)
+                }
+                None => p.value(),
+            })
+            .collect()
     }
 
     /// The AOV images (each channel's weighted mean), one per entry of [`AOV_NAMES`].

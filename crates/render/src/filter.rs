@@ -58,6 +58,7 @@ pub struct FilterTable {
     values: Box<[f32; SPLAT_TABLE + 1]>,
     /// Table entries per unit of distance.
     scale: f32,
+    radius: f32,
 }
 
 /// Entries of a [`FilterTable`].
@@ -75,7 +76,13 @@ impl FilterTable {
         FilterTable {
             values,
             scale: if r > 0.0 { 1.0 / step } else { 0.0 },
+            radius: r,
         }
+    }
+
+    /// The filter's radius.
+    pub fn radius(&self) -> f32 {
+        self.radius
     }
 
     /// The filter's value at offset `x` (zero beyond the radius).

@@ -2,7 +2,7 @@
 //! and lights. Built from a scene description by `penumbra-scene`.
 
 use crate::integrators::path_diffuse::{lane_meshes, LaneMesh};
-use crate::lights::{AreaLight, Environment, Light, LightSet};
+use crate::lights::{AreaLight, Environment, Light, LightSet, SceneSphere};
 use crate::{Camera, Filter, Material};
 use glam::Vec3;
 use penumbra_core::{Ray, Rgb};
@@ -31,6 +31,9 @@ pub struct Scene {
     /// needs if the mesh takes it (one lookup per hit instead of a chain of them); made
     /// from the fields above by [`Scene::prepared`].
     pub lane_meshes: Vec<Option<LaneMesh>>,
+    /// The bounding sphere of the finite geometry, where lights at infinity send light
+    /// paths; made by [`Scene::prepared`].
+    pub sphere: SceneSphere,
 }
 
 /// A ray's closest surface hit, with what shading needs.
@@ -42,9 +45,16 @@ pub struct Interaction<'a> {
 }
 
 impl Scene {
-    /// The scene with its derived tables ([`Scene::lane_meshes`]) made from its fields.
+    /// The scene with its derived tables ([`Scene::lane_meshes`], [`Scene::sphere`]) made
+    /// from its fields.
     pub fn prepared(mut self) -> Self {
         self.lane_meshes = lane_meshes(&self);
+        let b = self.geometry.finite_bounds();
+        self.sphere = if b.is_finite() && !b.is_empty() {
+            (b.centroid(), (0.5 * b.extent().length()).max(1e-3))
+        } else {
+            (Vec3::ZERO, 1.0)
+        };
         self
     }
 

@@ -1,11 +1,14 @@
 //! Cameras: map a position on the film (in pixels, y down) to a ray into the scene.
 //!
 //! Both cameras are placed by a look-at: `position`, `target`, `up` (default `[0, 1, 0]`).
-//! Adding a camera: a new file with `generate_ray`, one variant and one match arm.
+//! Adding a camera: a new file with `generate_ray`, one variant and one match arm (and an
+//! [`ImagePlane`] if light paths may reach it).
 
+mod importance;
 mod orthographic;
 mod perspective;
 
+pub use importance::{CameraSample, ImagePlane};
 pub use orthographic::Orthographic;
 pub use perspective::{FovAxis, Perspective};
 
@@ -26,6 +29,15 @@ impl Camera {
         match self {
             Camera::Perspective(c) => c.generate_ray(film, u_lens),
             Camera::Orthographic(c) => c.generate_ray(film),
+        }
+    }
+
+    /// The camera as a sensor that light paths can be connected to; `None` for the
+    /// orthographic camera, whose rays are all parallel (a delta in direction).
+    pub fn image_plane(&self) -> Option<&ImagePlane> {
+        match self {
+            Camera::Perspective(c) => Some(c.plane()),
+            Camera::Orthographic(_) => None,
         }
     }
 

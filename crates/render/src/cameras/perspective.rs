@@ -8,6 +8,7 @@
 //! `"y"`), `aperture_radius` (default 0: a pinhole), `focus_distance` (default: the distance
 //! to the target).
 
+use super::importance::ImagePlane;
 use glam::{Vec2, Vec3};
 use penumbra_core::{warp, Ray, Transform};
 
@@ -29,6 +30,8 @@ pub struct Perspective {
     resolution: Vec2,
     /// The lens radius and focus distance of a thin lens; `None` for a pinhole.
     lens: Option<(f32, f32)>,
+    /// The same camera as a sensor, in world space (for light tracing).
+    plane: ImagePlane,
 }
 
 impl Perspective {
@@ -47,10 +50,12 @@ impl Perspective {
         } else {
             Vec2::new(t * aspect, t)
         };
+        let resolution = Vec2::new(width as f32, height as f32);
         Perspective {
+            plane: ImagePlane::new(&to_world, tan_half, resolution),
             to_world,
             tan_half,
-            resolution: Vec2::new(width as f32, height as f32),
+            resolution,
             lens: None,
         }
     }
@@ -59,7 +64,13 @@ impl Perspective {
     /// (both positive; a zero radius keeps the pinhole).
     pub fn with_lens(mut self, aperture_radius: f32, focus_distance: f32) -> Self {
         self.lens = (aperture_radius > 0.0).then_some((aperture_radius, focus_distance));
+        self.plane = self.plane.with_lens(aperture_radius, focus_distance);
         self
+    }
+
+    /// The camera as a sensor that light paths can reach.
+    pub fn plane(&self) -> &ImagePlane {
+        &self.plane
     }
 
     pub fn has_lens(&self) -> bool {

@@ -19,7 +19,7 @@
 //! reached by light sampling: every strategy samples them, once per selection.
 
 use super::nee::{self, LightStrategy, Shading};
-use super::{specular_bounces, Integrator, IntegratorOptions, RayCounts};
+use super::{specular_bounces, Integrator, IntegratorOptions, RayCounts, Splat};
 use crate::bsdfs::TransportMode;
 use crate::lights::{AreaSampling, LightSelection};
 use crate::Scene;
@@ -146,7 +146,14 @@ pub struct Direct {
 }
 
 impl Integrator for Direct {
-    fn li(&self, scene: &Scene, ray: &Ray, sampler: &mut PixelSampler, counts: &mut RayCounts) -> Rgb {
+    fn li(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+        _: &mut Vec<Splat>,
+    ) -> Rgb {
         self.trace(scene, ray, 0, Rgb::WHITE, sampler, counts)
     }
 }

@@ -3,6 +3,7 @@
 //! Integrators are the one open family (a trait object); each is a file here, one variant
 //! in [`IntegratorKind`] and one arm in [`IntegratorKind::create`].
 
+mod bdpt;
 mod diffuse_lanes;
 mod direct;
 mod nee;
@@ -10,11 +11,13 @@ mod path;
 pub(crate) mod path_diffuse;
 mod whitted;
 
+pub use bdpt::Bdpt;
 pub use direct::{Direct, DirectOptions, LightSampling, MisHeuristic};
 pub use path::{PathTracer, BATCH, RR_DEPTH};
 pub use whitted::Whitted;
 
 use crate::bsdfs::TransportMode;
+pub use crate::film::Splat;
 use crate::lights::LightSample;
 use crate::Scene;
 use glam::Vec3;
@@ -43,8 +46,17 @@ impl RayCounts {
 
 /// A radiance estimator for camera rays.
 pub trait Integrator: Send + Sync {
-    /// Radiance arriving at the camera along `ray`, counting the rays traced in `counts`.
-    fn li(&self, scene: &Scene, ray: &Ray, sampler: &mut PixelSampler, counts: &mut RayCounts) -> Rgb;
+    /// Radiance arriving at the camera along `ray`, counting the rays traced in `counts`;
+    /// what the sample adds to other pixels (light paths that reach the camera) goes to
+    /// `splats` (see [`crate::film`]).
+    fn li(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+        splats: &mut Vec<Splat>,
+    ) -> Rgb;
 
     /// [`Integrator::li`] for each of `rays` with its sampler, into `out`: the same values,
     /// computed together where the integrator gains by it.
@@ -55,9 +67,10 @@ pub trait Integrator: Send + Sync {
         samplers: &mut [PixelSampler],
         out: &mut [Rgb],
         counts: &mut RayCounts,
+        splats: &mut Vec<Splat>,
     ) {
         for ((ray, sampler), out) in rays.iter().zip(samplers).zip(out) {
-            *out = self.li(scene, ray, sampler, counts);
+            *out = self.li(scene, ray, sampler, counts, splats);
         }
     }
 }
@@ -97,16 +110,18 @@ pub enum IntegratorKind {
     Whitted,
     Direct,
     Path,
+    Bdpt,
 }
 
 impl IntegratorKind {
-    pub const NAMES: [&'static str; 3] = ["whitted", "direct", "path"];
+    pub const NAMES: [&'static str; 4] = ["whitted", "direct", "path", "bdpt"];
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "whitted" => Some(IntegratorKind::Whitted),
             "direct" => Some(IntegratorKind::Direct),
             "path" => Some(IntegratorKind::Path),
+            "bdpt" => Some(IntegratorKind::Bdpt),
             _ => None,
         }
     }
@@ -116,6 +131,7 @@ impl IntegratorKind {
             IntegratorKind::Whitted => Box::new(Whitted { options }),
             IntegratorKind::Direct => Box::new(Direct { options }),
             IntegratorKind::Path => Box::new(PathTracer::new(options)),
+            IntegratorKind::Bdpt => Box::new(Bdpt { options }),
         }
     }
 }

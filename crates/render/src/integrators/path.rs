@@ -21,7 +21,7 @@
 //! traced one by one ([`PathTracer::li`] is a batch of one).
 
 use super::nee::{self, LightStrategy, Shading};
-use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts};
+use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts, Splat};
 use crate::bsdfs::TransportMode;
 use crate::lights::{AreaSampling, LightSelection};
 use crate::Scene;
@@ -93,7 +93,14 @@ impl<const N: usize> Shadows<'_, N> {
 }
 
 impl Integrator for PathTracer {
-    fn li(&self, scene: &Scene, camera_ray: &Ray, sampler: &mut PixelSampler, counts: &mut RayCounts) -> Rgb {
+    fn li(
+        &self,
+        scene: &Scene,
+        camera_ray: &Ray,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+        _: &mut Vec<Splat>,
+    ) -> Rgb {
         let mut out = [Rgb::BLACK];
         let batch = Batch {
             rays: std::slice::from_ref(camera_ray),
@@ -111,6 +118,7 @@ impl Integrator for PathTracer {
         samplers: &mut [PixelSampler],
         out: &mut [Rgb],
         counts: &mut RayCounts,
+        _: &mut Vec<Splat>,
     ) {
         for ((rays, samplers), out) in camera_rays
             .chunks(BATCH)

@@ -6,7 +6,7 @@
 //! centre of each (of each triangle, for a mesh), and are seen directly with their radiance.
 
 use super::nee::{self, LightStrategy, Shading};
-use super::{specular_bounces, Integrator, IntegratorOptions, RayCounts};
+use super::{specular_bounces, Integrator, IntegratorOptions, RayCounts, Splat};
 use crate::lights::AreaSampling;
 use crate::Scene;
 use glam::Vec2;
@@ -17,7 +17,7 @@ pub struct Whitted {
 }
 
 impl Integrator for Whitted {
-    fn li(&self, scene: &Scene, ray: &Ray, _sampler: &mut PixelSampler, counts: &mut RayCounts) -> Rgb {
+    fn li(&self, scene: &Scene, ray: &Ray, _: &mut PixelSampler, counts: &mut RayCounts, _: &mut Vec<Splat>) -> Rgb {
         self.trace(scene, ray, 0, Rgb::WHITE, counts)
     }
 }

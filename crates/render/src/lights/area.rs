@@ -7,10 +7,10 @@
 //! grouped as one light for selection).
 
 use super::emitter::{Emitter, EmitterSample};
-use super::LightSample;
+use super::{EmissionSample, LightSample};
 use crate::Texture;
 use glam::{Vec2, Vec3};
-use penumbra_core::Rgb;
+use penumbra_core::{warp, Frame, Ray, Rgb};
 use std::f32::consts::PI;
 
 /// How a point on an area light is chosen.
@@ -134,6 +134,42 @@ impl AreaLight {
             AreaSampling::Adaptive => AreaSampling::SolidAngle,
             s => s,
         }
+    }
+
+    /// A ray leaving a point uniform by area in a cosine-distributed direction about the
+    /// normal (a two-sided light: on either side, each with probability 1/2).
+    pub fn sample_le(&self, u_pos: Vec2, u_dir: Vec2) -> Option<EmissionSample> {
+        let (point, n) = self.emitter.sample_area(u_pos);
+        let (mut u, mut normal, mut side_pdf) = (u_dir, n, 1.0);
+        if self.two_sided {
+            // The first coordinate picks the side and is stretched back over [0, 1).
+            (u.x, side_pdf) = (2.0 * u.x, 0.5);
+            if u.x >= 1.0 {
+                (u.x, normal) = (u.x - 1.0, -n);
+            }
+        }
+        let local = warp::cosine_hemisphere(u);
+        let dir = Frame::from_normal(normal).to_world(local);
+        Some(EmissionSample {
+            // (Pushed off the surface, so that the ray does not meet the light itself.)
+            ray: Ray::spawn(point, n, dir),
+            normal: n,
+            le: self.le(point, n, dir),
+            pdf_pos: 1.0 / self.emitter.area(),
+            pdf_dir: side_pdf * warp::cosine_hemisphere_pdf(local),
+        })
+    }
+
+    /// The densities (per area, per solid angle) of [`AreaLight::sample_le`] for the ray
+    /// leaving along `dir` from a point of front normal `normal`.
+    pub fn pdf_le(&self, dir: Vec3, normal: Vec3) -> (f32, f32) {
+        let cos = normal.dot(dir);
+        let pdf_dir = if self.two_sided {
+            0.5 * cos.abs() * std::f32::consts::FRAC_1_PI
+        } else {
+            cos.max(0.0) * std::f32::consts::FRAC_1_PI
+        };
+        (1.0 / self.emitter.area(), pdf_dir)
     }
 
     /// Emitted power (luminance): π L A per emitting side.

@@ -4,9 +4,9 @@
 //! Native format: `type = "directional"`, `direction` (the way the light travels,
 //! default `[0, -1, 0]`), `irradiance` (colour, default `[1, 1, 1]`).
 
-use super::LightSample;
-use glam::Vec3;
-use penumbra_core::Rgb;
+use super::{disk_origin, disk_pdf, EmissionSample, LightSample, SceneSphere};
+use glam::{Vec2, Vec3};
+use penumbra_core::{Ray, Rgb};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Directional {
@@ -23,6 +23,17 @@ impl Directional {
             dist: f32::INFINITY,
             pdf: 1.0,
             delta: true,
+        })
+    }
+
+    /// A ray along the light's direction from a point of the disk that covers the scene.
+    pub fn sample_le(&self, u: Vec2, sphere: SceneSphere) -> Option<EmissionSample> {
+        Some(EmissionSample {
+            ray: Ray::new(disk_origin(sphere, self.direction, u), self.direction),
+            normal: self.direction,
+            le: self.irradiance,
+            pdf_pos: disk_pdf(sphere),
+            pdf_dir: 1.0,
         })
     }
 

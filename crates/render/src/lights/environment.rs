@@ -8,10 +8,10 @@
 //! Each pixel is constant over its cell (no filtering), so the sampling density is exactly
 //! proportional to the luminance it samples.
 
-use super::LightSample;
+use super::{disk_origin, disk_pdf, EmissionSample, LightSample, SceneSphere};
 use crate::texture::TextureImage;
 use glam::{Mat3, Vec2, Vec3};
-use penumbra_core::{warp, Distribution2D, Rgb};
+use penumbra_core::{warp, Distribution2D, Ray, Rgb};
 use std::f32::consts::PI;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -141,6 +141,20 @@ impl Environment {
             return 0.0;
         }
         distribution.pdf([uv.x, uv.y]) / (2.0 * PI * PI * sin_theta)
+    }
+
+    /// A ray of light coming in from the environment: its direction from `u_dir` as
+    /// [`Environment::sample_li`] draws it, its origin on the disk facing that direction.
+    pub fn sample_le(&self, u_pos: Vec2, u_dir: Vec2, sphere: SceneSphere) -> Option<EmissionSample> {
+        let s = self.sample_li(u_dir)?;
+        let dir = -s.wi;
+        Some(EmissionSample {
+            ray: Ray::new(disk_origin(sphere, dir, u_pos), dir),
+            normal: dir,
+            le: s.li,
+            pdf_pos: disk_pdf(sphere),
+            pdf_dir: s.pdf,
+        })
     }
 
     /// Power reaching a scene of radius `scene_radius`: π r² times ∫ L dω (luminance).

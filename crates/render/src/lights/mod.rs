@@ -3,8 +3,14 @@
 //! ([`AreaLight`]) are emitting surfaces, sampled by area or by solid angle; the
 //! [`Environment`] surrounds the scene at infinity.
 //!
-//! Adding a light: a new file with `sample_li` and `power`, a variant in [`Light`] and an
-//! arm in each match.
+//! Light paths (bidirectional path tracing, photons) start on lights: `sample_le` draws an
+//! emitted ray (a point and a direction, each with its density) and `pdf_le` gives those
+//! densities for a ray found another way (pbrt-v4 section 12.7's `SampleLe`/`PDF_Le`).
+//! Lights at infinity (directional, environment) emit from a disk of the scene's bounding
+//! sphere's radius facing the direction, so that the rays cover the whole scene.
+//!
+//! Adding a light: a new file with `sample_li`, `sample_le`, `pdf_le` and `power`, a variant
+//! in [`Light`] and an arm in each match.
 
 mod area;
 mod directional;
@@ -24,7 +30,8 @@ pub use set::{LightSelection, LightSet, LightSetBuilder};
 pub use spot::Spot;
 
 use glam::{Vec2, Vec3};
-use penumbra_core::Rgb;
+use penumbra_core::{warp, Frame, Ray, Rgb};
+use std::f32::consts::PI;
 
 /// Incident light from one light at a point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -39,6 +46,27 @@ pub struct LightSample {
     pub pdf: f32,
     pub delta: bool,
 }
+
+/// A ray of light leaving a light, for light paths.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EmissionSample {
+    /// From the point of emission, in the unit direction light travels.
+    pub ray: Ray,
+    /// The light's unit normal at the point (the direction of travel for lights at
+    /// infinity; zero for point lights).
+    pub normal: Vec3,
+    /// Emitted radiance (for point lights: intensity; for directional lights: irradiance).
+    pub le: Rgb,
+    /// Density of the point per unit area (1 for a point light's one position).
+    pub pdf_pos: f32,
+    /// Density of the direction per unit solid angle (1 for a directional light's one
+    /// direction).
+    pub pdf_dir: f32,
+}
+
+/// The bounding sphere (centre, radius) of a scene's finite geometry: where lights at
+/// infinity aim their rays.
+pub type SceneSphere = (Vec3, f32);
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Light {
@@ -61,6 +89,37 @@ impl Light {
         }
     }
 
+    /// An emitted ray drawn from `u_pos` (the point) and `u_dir` (the direction).
+    pub fn sample_le(&self, u_pos: Vec2, u_dir: Vec2, sphere: SceneSphere) -> Option<EmissionSample> {
+        let s = match self {
+            Light::Point(l) => l.sample_le(u_dir),
+            Light::Spot(l) => l.sample_le(u_dir),
+            Light::Directional(l) => l.sample_le(u_pos, sphere),
+            Light::Area(l) => l.sample_le(u_pos, u_dir),
+            Light::Environment(l) => l.sample_le(u_pos, u_dir, sphere),
+        }?;
+        let ok = s.pdf_pos > 0.0 && s.pdf_dir > 0.0 && s.pdf_pos.is_finite() && s.pdf_dir.is_finite();
+        (ok && !s.le.is_black() && s.le.is_finite()).then_some(s)
+    }
+
+    /// The densities `(pdf_pos, pdf_dir)` with which [`Light::sample_le`] draws the ray
+    /// leaving the light along `dir` from a point with unit normal `normal`: zero for what
+    /// it cannot draw (a delta's position or direction).
+    pub fn pdf_le(&self, dir: Vec3, normal: Vec3, sphere: SceneSphere) -> (f32, f32) {
+        match self {
+            Light::Point(_) => (0.0, warp::UNIFORM_SPHERE_PDF),
+            Light::Spot(l) => (0.0, l.pdf_dir(dir)),
+            Light::Directional(_) => (disk_pdf(sphere), 0.0),
+            Light::Area(l) => l.pdf_le(dir, normal),
+            Light::Environment(l) => (disk_pdf(sphere), l.pdf(-dir)),
+        }
+    }
+
+    /// Whether the light lies at infinity (directional, environment).
+    pub fn is_infinite(&self) -> bool {
+        matches!(self, Light::Directional(_) | Light::Environment(_))
+    }
+
     /// Whether the light is a delta distribution (reachable only by light sampling).
     pub fn is_delta(&self) -> bool {
         !matches!(self, Light::Area(_) | Light::Environment(_))
@@ -76,6 +135,20 @@ impl Light {
             Light::Environment(l) => l.power(scene_radius),
         }
     }
+}
+
+/// The origin of a ray travelling along the unit `dir` from a point uniform over the disk
+/// of the scene sphere's radius that faces `dir` and touches the sphere on the side the
+/// light comes from.
+pub(crate) fn disk_origin((center, radius): SceneSphere, dir: Vec3, u: Vec2) -> Vec3 {
+    let d = warp::uniform_disk(u) * radius;
+    let frame = Frame::from_normal(dir);
+    center - dir * radius + frame.s * d.x + frame.t * d.y
+}
+
+/// Density per unit area of [`disk_origin`].
+pub(crate) fn disk_pdf((_, radius): SceneSphere) -> f32 {
+    1.0 / (PI * radius * radius)
 }
 
 /// Light from a point source of `intensity` at `position`, seen from `p`: inverse-square falloff.

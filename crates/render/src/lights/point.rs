@@ -4,9 +4,9 @@
 //! Native format: `type = "point"`, `position` (required), `intensity` (colour, default
 //! `[1, 1, 1]`).
 
-use super::{delta_sample, LightSample};
-use glam::Vec3;
-use penumbra_core::Rgb;
+use super::{delta_sample, EmissionSample, LightSample};
+use glam::{Vec2, Vec3};
+use penumbra_core::{warp, Ray, Rgb};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Point {
@@ -17,6 +17,17 @@ pub struct Point {
 impl Point {
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
         delta_sample(p, self.position, self.intensity)
+    }
+
+    /// A ray in a direction uniform over the sphere.
+    pub fn sample_le(&self, u: Vec2) -> Option<EmissionSample> {
+        Some(EmissionSample {
+            ray: Ray::new(self.position, warp::uniform_sphere(u)),
+            normal: Vec3::ZERO,
+            le: self.intensity,
+            pdf_pos: 1.0,
+            pdf_dir: warp::UNIFORM_SPHERE_PDF,
+        })
     }
 
     pub fn power(&self) -> f32 {

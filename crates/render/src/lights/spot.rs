@@ -6,9 +6,9 @@
 //! (degrees, half-angle of the lit cone, default 30), `falloff_start` (degrees, from 0 to
 //! `cone_angle`, default the smaller of 25 and `cone_angle`).
 
-use super::{delta_sample, LightSample};
-use glam::Vec3;
-use penumbra_core::Rgb;
+use super::{delta_sample, EmissionSample, LightSample};
+use glam::{Vec2, Vec3};
+use penumbra_core::{warp, Frame, Ray, Rgb};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Spot {
@@ -47,6 +47,29 @@ impl Spot {
             s.li = s.li * f;
             s
         })
+    }
+
+    /// A ray in a direction uniform over the lit cone, carrying the falloff's intensity.
+    pub fn sample_le(&self, u: Vec2) -> Option<EmissionSample> {
+        let local = warp::uniform_cone(u, self.cos_total);
+        let dir = Frame::from_normal(self.direction).to_world(local);
+        Some(EmissionSample {
+            ray: Ray::new(self.position, dir),
+            normal: Vec3::ZERO,
+            le: self.intensity * self.falloff(local.z),
+            pdf_pos: 1.0,
+            pdf_dir: warp::uniform_cone_pdf(local, self.cos_total),
+        })
+    }
+
+    /// Density of [`Spot::sample_le`]'s direction `dir`.
+    pub fn pdf_dir(&self, dir: Vec3) -> f32 {
+        let cos = dir.dot(self.direction);
+        if cos >= self.cos_total {
+            warp::uniform_cone_pdf(Vec3::Z, self.cos_total)
+        } else {
+            0.0
+        }
     }
 
     pub fn power(&self) -> f32 {
