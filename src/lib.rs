@@ -54,6 +54,8 @@ pub struct RenderControl<'a> {
     pub resume: Option<Film>,
     /// Sees the film after every pass (for checkpoints).
     pub after_pass: Option<&'a (dyn Fn(&Film) + Sync)>,
+    /// `bdpt` keeps each strategy's image in a film layer of its own.
+    pub debug_strategies: bool,
 }
 
 static NEVER: AtomicBool = AtomicBool::new(false);
@@ -67,6 +69,7 @@ impl Default for RenderControl<'_> {
             aovs: false,
             resume: None,
             after_pass: None,
+            debug_strategies: false,
         }
     }
 }
@@ -81,6 +84,7 @@ pub fn render(desc: &SceneDesc, control: RenderControl) -> Result<RenderResult, 
         min_weight: r.min_weight,
         rr_depth: r.rr_depth,
         direct: r.direct,
+        debug_strategies: control.debug_strategies,
     });
     let options = RenderOptions {
         spp: r.spp,

@@ -64,7 +64,8 @@ pub struct RenderArgs {
     /// Random seed; the same seed, scene and sample count give the same image.
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Integrator: whitted (the default scene's), direct (Monte Carlo direct lighting).
+    /// Integrator: whitted (the default scene's), direct (Monte Carlo direct lighting),
+    /// path (path tracing), bdpt (bidirectional path tracing).
     #[arg(long)]
     pub integrator: Option<String>,
     /// How `direct` samples the lights: mis (default), grid, uniform, stratified,
@@ -127,6 +128,11 @@ pub struct RenderArgs {
     /// EXR output (albedo.R/G/B, normal.X/Y/Z, depth.Z).
     #[arg(long)]
     pub aovs: bool,
+    /// With `bdpt`: also write the image of each strategy (s light vertices joined to t
+    /// camera vertices), weighted by multiple importance sampling and not, as OpenEXR
+    /// files beside the output (OUTPUT_d<segments>_s<s>_t<t>[_unweighted].exr).
+    #[arg(long)]
+    pub debug_strategies: bool,
 }
 
 fn parse_positive(s: &str) -> Result<f32, String> {

@@ -187,11 +187,37 @@ fn write_outputs(args: &RenderArgs, film: &Film, state: Option<(u32, u64)>) -> R
         None => write_image(&args.output, &image, args.exposure),
     };
     written.map_err(|e| format!("cannot write {}: {e}", args.output.display()))?;
+    for (path, pixels) in strategy_images(&args.output, film) {
+        let image = Image {
+            width: film.width,
+            height: film.height,
+            pixels: &pixels,
+        };
+        write_image(&path, &image, 0.0).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    }
     if let Some((planned, print)) = state {
         let path = state_path(&args.output);
         write_state(&path, film, planned, print).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     }
     Ok(())
+}
+
+/// The files of `--debug-strategies` beside `output`, with their images.
+fn strategy_images(output: &std::path::Path, film: &Film) -> Vec<(std::path::PathBuf, Vec<penumbra::math::Rgb>)> {
+    let stem = output.file_stem().map_or("render".into(), |s| s.to_string_lossy());
+    film.layer_images()
+        .into_iter()
+        .map(|(layer, pixels)| {
+            let (code, weighted) = ((layer - 1) / 2, (layer - 1) % 2 == 1);
+            let (s, t) = (code / 256, code % 256);
+            let name = format!(
+                "{stem}_d{}_s{s}_t{t}{}.exr",
+                s + t - 1,
+                if weighted { "" } else { "_unweighted" }
+            );
+            (output.with_file_name(name), pixels)
+        })
+        .collect()
 }
 
 pub fn run(args: RenderArgs) -> Result<(), Failure> {
@@ -226,6 +252,23 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
         ),
     };
     apply_overrides(&mut desc, &args)?;
+    if args.debug_strategies {
+        if desc.render.integrator != IntegratorKind::Bdpt {
+            return Err(bad(
+                "--debug-strategies shows the strategies of `bdpt`: add --integrator bdpt",
+            ));
+        }
+        if args.resume {
+            return Err(bad(
+                "--debug-strategies cannot be resumed: its images are not kept in the state; render afresh",
+            ));
+        }
+        if matches!(desc.camera.kind, penumbra::scene::desc::CameraKind::Orthographic { .. }) {
+            return Err(bad(
+                "--debug-strategies needs a perspective camera: light paths cannot reach an orthographic one",
+            ));
+        }
+    }
     for warning in &desc.warnings {
         eprintln!("warning: {warning}");
     }
@@ -310,6 +353,7 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
         aovs: args.aovs,
         resume,
         after_pass: Some(&checkpoint),
+        debug_strategies: args.debug_strategies,
     };
     let result = pool
         .install(|| penumbra::render(&desc, control))
@@ -358,6 +402,9 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
         }
     }
     println!("wrote {}", args.output.display());
+    for (path, _) in strategy_images(&args.output, film) {
+        println!("wrote {}", path.display());
+    }
     if keep_state {
         println!("wrote {}", state_file.display());
     }

@@ -100,8 +100,9 @@ struct Tile {
 struct TileResult {
     /// The tile's pixels and a margin of `margin` pixels on every side, row by row.
     pixels: Vec<Pixel>,
-    /// What the tile's samples add to film pixels (index, value), filter weights applied.
-    splats: Vec<(u32, Rgb)>,
+    /// What the tile's samples add to film pixels (layer, index, value), filter weights
+    /// applied.
+    splats: Vec<(u32, u32, Rgb)>,
     aovs: Vec<[f32; AOV_CHANNELS]>,
     rejected: u64,
     rays: RayCounts,
@@ -216,7 +217,8 @@ impl Filters {
 
     /// Adds `value`, landing at film position `film`, to every pixel of a `width` x
     /// `height` film within the filter's radius, with the normalised filter's weight.
-    fn splat(&self, film: Vec2, value: Rgb, (width, height): (u32, u32), out: &mut Vec<(u32, Rgb)>) {
+    fn splat(&self, s: &Splat, (width, height): (u32, u32), out: &mut Vec<(u32, u32, Rgb)>) {
+        let (film, value) = (s.film, s.value);
         let (table, norm) = &self.layer;
         let r = table.radius();
         let lo = (film - Vec2::splat(r + 0.5)).ceil().max(Vec2::ZERO);
@@ -231,7 +233,7 @@ impl Filters {
             for px in lo.x as u32..=x1 {
                 let w = wy * table.eval(px as f32 + 0.5 - film.x);
                 if w != 0.0 {
-                    out.push((py * width + px, value * w));
+                    out.push((s.layer, py * width + px, value * w));
                 }
             }
         }
@@ -264,8 +266,8 @@ fn render_pass(
             })
             .collect();
         for r in &mut done {
-            for &(i, v) in &r.splats {
-                film.add_splat(i as usize, v);
+            for &(layer, i, v) in &r.splats {
+                film.add_splat(layer, i as usize, v);
             }
             r.splats = Vec::new();
         }
@@ -452,7 +454,7 @@ fn render_tile(
         );
         for s in batch_splats.iter() {
             if s.value.is_finite() {
-                filter.splat(s.film, s.value, (scene.width, scene.height), &mut splats);
+                filter.splat(s, (scene.width, scene.height), &mut splats);
             } else {
                 rejected += 1;
             }

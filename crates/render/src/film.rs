@@ -12,6 +12,7 @@
 
 use glam::Vec4;
 use penumbra_core::Rgb;
+use std::collections::BTreeMap;
 
 /// One pixel of a tile's buffer during a pass (16 bytes, aligned: one SIMD register).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -104,6 +105,9 @@ pub struct Film {
     pub rejected: u64,
     /// Sums of the splats each pixel received (empty until the first splat).
     pub splats: Vec<[f64; 3]>,
+    /// Images kept apart from the film's own ([`Splat::layer`] > 0; bidirectional path
+    /// tracing's strategies when asked for), splat sums per pixel.
+    pub layers: BTreeMap<u32, Vec<[f32; 3]>>,
 }
 
 /// What a sample adds to some pixel of the film, at film position `film` (pixels), beside
@@ -112,6 +116,8 @@ pub struct Film {
 pub struct Splat {
     pub film: glam::Vec2,
     pub value: Rgb,
+    /// 0: the image; else a separate image of the film's [`Film::layers`].
+    pub layer: u32,
 }
 
 impl Film {
@@ -125,17 +131,41 @@ impl Film {
             samples_per_pixel: 0,
             rejected: 0,
             splats: Vec::new(),
+            layers: BTreeMap::new(),
         }
     }
 
-    /// Adds `value` to the splat sum of pixel `index` (row by row from the top).
-    pub fn add_splat(&mut self, index: usize, value: Rgb) {
+    /// Adds `value` to the splat sum of pixel `index` (row by row from the top) of the
+    /// image (`layer` 0) or of a separate layer.
+    pub fn add_splat(&mut self, layer: u32, index: usize, value: Rgb) {
+        let n = self.pixels.len();
+        if layer != 0 {
+            let sums = self.layers.entry(layer).or_insert_with(|| vec![[0.0; 3]; n]);
+            for (s, v) in sums[index].iter_mut().zip(value.to_array()) {
+                *s += v;
+            }
+            return;
+        }
         if self.splats.is_empty() {
-            self.splats = vec![[0.0; 3]; self.pixels.len()];
+            self.splats = vec![[0.0; 3]; n];
         }
         for (s, v) in self.splats[index].iter_mut().zip(value.to_array()) {
             *s += v as f64;
         }
+    }
+
+    /// The separate layers' images (splat sums over the samples per pixel), by layer.
+    pub fn layer_images(&self) -> Vec<(u32, Vec<Rgb>)> {
+        let per_sample = 1.0 / self.samples_per_pixel.max(1) as f32;
+        self.layers
+            .iter()
+            .map(|(&k, sums)| {
+                (
+                    k,
+                    sums.iter().map(|&[r, g, b]| Rgb::new(r, g, b) * per_sample).collect(),
+                )
+            })
+            .collect()
     }
 
     pub fn pixel(&self, x: u32, y: u32) -> &FilmPixel {

@@ -11,7 +11,7 @@ mod path;
 pub(crate) mod path_diffuse;
 mod whitted;
 
-pub use bdpt::Bdpt;
+pub use bdpt::{strategy_layer, Bdpt};
 pub use direct::{Direct, DirectOptions, LightSampling, MisHeuristic};
 pub use path::{PathTracer, BATCH, RR_DEPTH};
 pub use whitted::Whitted;
@@ -91,6 +91,9 @@ pub struct IntegratorOptions {
     pub rr_depth: u32,
     /// Settings of the `direct` integrator.
     pub direct: DirectOptions,
+    /// `bdpt` also splats every strategy's contribution, weighted and not, to layers of
+    /// their own ([`strategy_layer`]).
+    pub debug_strategies: bool,
 }
 
 impl Default for IntegratorOptions {
@@ -100,6 +103,7 @@ impl Default for IntegratorOptions {
             min_weight: 1e-3,
             rr_depth: RR_DEPTH,
             direct: DirectOptions::default(),
+            debug_strategies: false,
         }
     }
 }

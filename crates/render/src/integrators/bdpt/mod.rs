@@ -47,23 +47,33 @@ impl Integrator for Bdpt {
         let mut light = Vec::with_capacity(max_depth);
         self.light_subpath(scene, sampler, &mut light, counts);
         let mut radiance = walk.background;
+        // Where the camera sample lies on the film, for the strategies' own images.
+        let own = match (self.options.debug_strategies, scene.camera.image_plane()) {
+            (true, Some(plane)) => plane.we(ray.origin, ray.dir).map(|(_, film)| film),
+            _ => None,
+        };
         for t in 1..=camera.len() {
             for s in 0..=light.len() {
                 let segments = s + t - 1;
                 if (s == 1 && t == 1) || segments < 1 || segments > max_depth {
                     continue;
                 }
-                if let Some((ds, dt, _)) = debug_only() {
-                    if (s, t) != (ds, dt) {
-                        continue;
-                    }
-                }
-                let Some((value, film)) = connect(scene, &light, &camera, s, t, sampler, counts) else {
+                let Some((value, weight, film)) = connect(scene, &light, &camera, s, t, sampler, counts) else {
                     continue;
                 };
                 match film {
-                    Some(film) => splats.push(Splat { film, value }),
-                    None => radiance += value,
+                    Some(film) => splats.push(Splat {
+                        film,
+                        value: value * weight,
+                        layer: 0,
+                    }),
+                    None => radiance += value * weight,
+                }
+                if let Some(film) = film.or(own).filter(|_| self.options.debug_strategies) {
+                    for (weighted, v) in [(true, value * weight), (false, value)] {
+                        let layer = strategy_layer(s, t, weighted);
+                        splats.push(Splat { film, value: v, layer });
+                    }
                 }
             }
         }
@@ -255,8 +265,14 @@ impl Bdpt {
     }
 }
 
-/// The value of strategy (s, t) and, for light tracing (t = 1), the film position it is
-/// splatted at; `None` when it brings nothing.
+/// The film layer of strategy (s, t)'s own image, weighted by MIS or not (pbrt's
+/// `visualizestrategies` and `visualizeweights`): 1 + 2 (256 s + t) + weighted.
+pub fn strategy_layer(s: usize, t: usize, weighted: bool) -> u32 {
+    1 + 2 * (256 * s as u32 + t as u32) + weighted as u32
+}
+
+/// The unweighted value of strategy (s, t), its MIS weight and, for light tracing (t = 1),
+/// the film position it is splatted at; `None` when it brings nothing.
 fn connect(
     scene: &Scene,
     light: &[Vertex],
@@ -265,7 +281,7 @@ fn connect(
     t: usize,
     sampler: &mut PixelSampler,
     counts: &mut RayCounts,
-) -> Option<(Rgb, Option<glam::Vec2>)> {
+) -> Option<(Rgb, f32, Option<glam::Vec2>)> {
     let pt = &camera[t - 1];
     // A camera path that left the scene ends at infinity: only s = 0 uses it.
     if t > 1 && s != 0 && matches!(pt.kind, Kind::Light { .. }) {
@@ -354,16 +370,6 @@ fn connect(
     if value.is_black() {
         return None;
     }
-    let w = if debug_only().is_some_and(|d| d.2) {
-        1.0
-    } else {
-        mis::weight(scene, light, camera, sampled.as_ref(), s, t)
-    };
-    Some((value * w, film))
-}
-
-fn debug_only() -> Option<(usize, usize, bool)> {
-    let v = std::env::var("PENUMBRA_BDPT_ONLY").ok()?;
-    let p: Vec<usize> = v.split(',').map(|x| x.parse().unwrap()).collect();
-    Some((p[0], p[1], p.get(2) == Some(&1)))
+    let w = mis::weight(scene, light, camera, sampled.as_ref(), s, t);
+    Some((value, w, film))
 }

@@ -77,6 +77,8 @@ pub fn integrator(r: &mut Reader, at: At) -> Result<()> {
     let integrator = match kind.as_str() {
         "path" => IntegratorKind::Path,
         "direct" => IntegratorKind::Direct,
+        // Mitsuba 0.6's bidirectional path tracer (Mitsuba 3 has none).
+        "bdpt" => IntegratorKind::Bdpt,
         other => {
             let text = format!(
                 "{}: integrator `{other}` is not supported: rendered with `path`",

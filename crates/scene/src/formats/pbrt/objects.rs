@@ -165,13 +165,28 @@ pub fn setting(r: &mut Reader, directive: &str, kind: &str, p: &Params, here: Lo
             };
         }
         _ => {
-            if !matches!(kind, "path" | "volpath") {
-                r.warn(
-                    "integrator",
-                    format!("{here}: integrator `{kind}` is rendered with `path`"),
-                );
-            }
-            r.desc.render.integrator = penumbra_render::integrators::IntegratorKind::Path;
+            use penumbra_render::integrators::IntegratorKind;
+            r.desc.render.integrator = match kind {
+                "path" | "volpath" => IntegratorKind::Path,
+                "bdpt" => {
+                    for flag in ["visualizestrategies", "visualizeweights"] {
+                        if p.bool(flag, false)? {
+                            r.warn(
+                                "integrator",
+                                format!("{here}: `{flag}` is `penumbra render --debug-strategies`"),
+                            );
+                        }
+                    }
+                    IntegratorKind::Bdpt
+                }
+                _ => {
+                    r.warn(
+                        "integrator",
+                        format!("{here}: integrator `{kind}` is rendered with `path`"),
+                    );
+                    IntegratorKind::Path
+                }
+            };
             // pbrt counts scattering events; Mitsuba's depth (ours) counts segments.
             let depth = p.int("maxdepth", 5)?;
             r.desc.render.max_depth = (depth.max(0) as u64 + 1).min(MAX_DEPTH_LIMIT as u64) as u32;
