@@ -70,7 +70,8 @@ pub(super) fn weight(
     // Strategies with fewer camera vertices: camera vertex i becomes the light path's end.
     let mut ri = 1.0;
     for i in (1..t).rev() {
-        let v = camera_at(i);
+        // (i >= 1: never the camera vertex a connection drew.)
+        let v = &camera[i];
         let rev = if i == t - 1 {
             pt_rev
         } else if i + 2 == t {
@@ -80,7 +81,7 @@ pub(super) fn weight(
         };
         ri *= remap0(rev) / remap0(v.pdf_fwd);
         let delta = v.delta && i != t - 1;
-        let delta_before = camera_at(i - 1).delta;
+        let delta_before = camera[i - 1].delta;
         if !delta && !delta_before {
             sum += ri * ri;
         }
@@ -88,7 +89,11 @@ pub(super) fn weight(
     // Strategies with fewer light vertices: light vertex i becomes the camera path's end.
     let mut ri = 1.0;
     for i in (0..s).rev() {
-        let v = light_at(i);
+        let v = if s == 1 {
+            sampled.unwrap_or(&light[0])
+        } else {
+            &light[i]
+        };
         let rev = if i == s - 1 {
             qs_rev.unwrap_or(v.pdf_rev)
         } else if i + 2 == s {
@@ -99,7 +104,7 @@ pub(super) fn weight(
         ri *= remap0(rev) / remap0(v.pdf_fwd);
         let delta = v.delta && i != s - 1;
         let delta_before = if i > 0 {
-            light_at(i - 1).delta
+            light[i - 1].delta
         } else {
             v.light(scene).is_some_and(|(_, l)| l.is_delta())
         };

@@ -93,7 +93,7 @@ impl Bdpt {
     ) -> Walk {
         let plane = scene.camera.image_plane();
         let normal = plane.map_or(Vec3::ZERO, |p| p.normal());
-        let mut v = Vertex::new(Kind::Camera, ray.origin, normal, Rgb::WHITE);
+        let mut v = Vertex::new(scene, Kind::Camera, ray.origin, normal, Rgb::WHITE);
         // A camera no light path can be joined to (orthographic) is a delta vertex; its
         // direction density then never enters a weight.
         v.delta = plane.is_none();
@@ -133,7 +133,7 @@ impl Bdpt {
         let Some(e) = light.sample_le(u_pos, u_dir, scene.sphere) else {
             return;
         };
-        let mut v = Vertex::new(Kind::Light { index }, e.ray.origin, e.normal, e.le);
+        let mut v = Vertex::new(scene, Kind::Light { index }, e.ray.origin, e.normal, e.le);
         v.pdf_fwd = e.pdf_pos * pick;
         path.push(v);
         let cos = if e.normal == Vec3::ZERO {
@@ -199,7 +199,7 @@ impl Bdpt {
                 if mode == TransportMode::Radiance {
                     match scene.environment() {
                         Some((index, _)) => {
-                            let mut v = Vertex::new(Kind::Light { index }, ray.origin + ray.dir, ray.dir, beta);
+                            let mut v = Vertex::new(scene, Kind::Light { index }, ray.origin + ray.dir, ray.dir, beta);
                             v.pdf_fwd = pdf_fwd;
                             path.push(v);
                         }
@@ -217,8 +217,8 @@ impl Bdpt {
                 wo: it.wo,
                 light,
             };
-            let mut v = Vertex::new(kind, it.surface.p, it.surface.ng, beta);
-            v.pdf_fwd = path[prev].convert_density(scene, pdf_fwd, &v);
+            let mut v = Vertex::new(scene, kind, it.surface.p, it.surface.ng, beta);
+            v.pdf_fwd = path[prev].convert_density(pdf_fwd, &v);
             path.push(v);
             if path.len() >= max {
                 break;
@@ -248,7 +248,7 @@ impl Bdpt {
                 path[last].delta = true;
                 (pdf_fwd, pdf_rev) = (0.0, 0.0);
             }
-            let rev = path[last].convert_density(scene, pdf_rev, &path[prev]);
+            let rev = path[last].convert_density(pdf_rev, &path[prev]);
             path[prev].pdf_rev = rev;
             // Russian roulette, as the path tracer plays it (η² undone on the camera side).
             if path.len() as u32 >= self.options.rr_depth {
@@ -298,7 +298,13 @@ fn connect(
         }
         let plane = scene.camera.image_plane()?;
         let cs = plane.sample_wi(qs.p, sampler.next_2d())?;
-        let mut v = Vertex::new(Kind::Camera, cs.point, plane.normal(), Rgb::splat(cs.we / cs.pdf));
+        let mut v = Vertex::new(
+            scene,
+            Kind::Camera,
+            cs.point,
+            plane.normal(),
+            Rgb::splat(cs.we / cs.pdf),
+        );
         v.pdf_fwd = 0.0;
         let l = qs.beta * qs.f(&v, TransportMode::Importance) * v.beta * qs.ns().dot(cs.wi).abs();
         if l.is_black() {
@@ -332,7 +338,7 @@ fn connect(
         } else {
             (pt.p + ls.wi, -ls.wi)
         };
-        let mut v = Vertex::new(Kind::Light { index }, p, ng, ls.li / (pick * ls.pdf));
+        let mut v = Vertex::new(scene, Kind::Light { index }, p, ng, ls.li / (pick * ls.pdf));
         v.pdf_fwd = v.pdf_light_origin(scene, pt);
         let l = pt.beta * pt.f(&v, TransportMode::Radiance) * v.beta * pt.ns().dot(ls.wi).abs();
         if l.is_black() {
@@ -360,7 +366,7 @@ fn connect(
         if l.is_black() {
             return None;
         }
-        let g = geometry(scene, qs, pt);
+        let g = geometry(qs, pt);
         counts.shadow += 1;
         if g == 0.0 || !unoccluded(scene, qs, pt) {
             return None;

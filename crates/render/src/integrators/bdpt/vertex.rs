@@ -43,10 +43,23 @@ pub(super) struct Vertex<'a> {
     pub pdf_rev: f32,
     /// Scattered by a delta lobe (or, for the camera, a camera no path can reach).
     pub delta: bool,
+    /// At a light at infinity; on a surface (area densities carry a cosine there). Set by
+    /// [`Vertex::new`].
+    infinite: bool,
+    on_surface: bool,
 }
 
 impl<'a> Vertex<'a> {
-    pub fn new(kind: Kind<'a>, p: Vec3, ng: Vec3, beta: Rgb) -> Self {
+    pub fn new(scene: &Scene, kind: Kind<'a>, p: Vec3, ng: Vec3, beta: Rgb) -> Self {
+        let infinite = match kind {
+            Kind::Light { index } => scene.lights.lights()[index as usize].is_infinite(),
+            _ => false,
+        };
+        let on_surface = match kind {
+            Kind::Surface { .. } => true,
+            Kind::Light { .. } => ng != Vec3::ZERO && !infinite,
+            Kind::Camera => false,
+        };
         Vertex {
             kind,
             p,
@@ -55,6 +68,8 @@ impl<'a> Vertex<'a> {
             pdf_fwd: 0.0,
             pdf_rev: 0.0,
             delta: false,
+            infinite,
+            on_surface,
         }
     }
 
@@ -69,17 +84,13 @@ impl<'a> Vertex<'a> {
     }
 
     /// At a light at infinity (directional, environment).
-    pub fn is_infinite(&self, scene: &Scene) -> bool {
-        matches!(self.kind, Kind::Light { .. }) && self.light(scene).is_some_and(|(_, l)| l.is_infinite())
+    pub fn is_infinite(&self) -> bool {
+        self.infinite
     }
 
     /// On a surface (area densities there carry a cosine).
-    pub fn is_on_surface(&self, scene: &Scene) -> bool {
-        match self.kind {
-            Kind::Surface { .. } => true,
-            Kind::Light { .. } => self.ng != Vec3::ZERO && !self.is_infinite(scene),
-            Kind::Camera => false,
-        }
+    pub fn is_on_surface(&self) -> bool {
+        self.on_surface
     }
 
     /// Whether a deterministic connection can be made to this vertex.
@@ -132,14 +143,14 @@ impl<'a> Vertex<'a> {
     }
 
     /// `pdf` (per unit solid angle at this vertex) as a density per unit area at `next`.
-    pub fn convert_density(&self, scene: &Scene, pdf: f32, next: &Vertex) -> f32 {
-        if next.is_infinite(scene) {
+    pub fn convert_density(&self, pdf: f32, next: &Vertex) -> f32 {
+        if next.is_infinite() {
             return pdf;
         }
         let Some((w, d2)) = self.towards(next) else {
             return 0.0;
         };
-        let cos = if next.is_on_surface(scene) {
+        let cos = if next.is_on_surface() {
             next.ng.dot(w).abs()
         } else {
             1.0
@@ -166,7 +177,7 @@ impl<'a> Vertex<'a> {
             }
             Kind::Light { .. } => unreachable!("handled above"),
         };
-        self.convert_density(scene, pdf, next)
+        self.convert_density(pdf, next)
     }
 
     /// The area density at `v` of a light path leaving this vertex's light towards it.
@@ -174,12 +185,12 @@ impl<'a> Vertex<'a> {
         let (Some((_, light)), Some((w, d2))) = (self.light(scene), self.towards(v)) else {
             return 0.0;
         };
-        let pdf = if self.is_infinite(scene) {
+        let pdf = if self.is_infinite() {
             disk_pdf(scene.sphere)
         } else {
             light.pdf_le(w, self.light_normal(light), scene.sphere).1 / d2
         };
-        if v.is_on_surface(scene) {
+        if v.is_on_surface() {
             pdf * v.ng.dot(w).abs()
         } else {
             pdf
@@ -194,7 +205,7 @@ impl<'a> Vertex<'a> {
         };
         let pick = scene.lights.pmf(LightSelection::Power, index);
         match light {
-            Light::Environment(env) if self.is_infinite(scene) => pick * env.pdf(-w),
+            Light::Environment(env) if self.is_infinite() => pick * env.pdf(-w),
             Light::Directional(_) => 0.0,
             _ => pick * light.pdf_le(w, self.light_normal(light), scene.sphere).0,
         }
@@ -221,8 +232,8 @@ impl<'a> Vertex<'a> {
     }
 
     /// Where rays towards `target` leave this vertex: pushed off a surface on its side.
-    fn origin_towards(&self, scene: &Scene, target: Vec3) -> Vec3 {
-        if !self.is_on_surface(scene) {
+    fn origin_towards(&self, target: Vec3) -> Vec3 {
+        if !self.is_on_surface() {
             return self.p;
         }
         let n = if self.ng.dot(target - self.p) < 0.0 {
@@ -236,20 +247,20 @@ impl<'a> Vertex<'a> {
 
 /// Whether nothing blocks the segment between `a` and `b` (neither at infinity).
 pub(super) fn unoccluded(scene: &Scene, a: &Vertex, b: &Vertex) -> bool {
-    let from = a.origin_towards(scene, b.p);
-    let to = b.origin_towards(scene, a.p);
+    let from = a.origin_towards(b.p);
+    let to = b.origin_towards(a.p);
     !scene.occluded(&Ray::new(from, to - from), super::super::SHADOW_T_MAX)
 }
 
 /// The geometry term |cos θa| |cos θb| / d² between two finite vertices (shading normals),
 /// without visibility.
-pub(super) fn geometry(scene: &Scene, a: &Vertex, b: &Vertex) -> f32 {
+pub(super) fn geometry(a: &Vertex, b: &Vertex) -> f32 {
     let Some((w, d2)) = a.towards(b) else {
         return 0.0;
     };
     let mut g = 1.0 / d2;
     for v in [a, b] {
-        if v.is_on_surface(scene) {
+        if v.is_on_surface() {
             g *= v.ns().dot(w).abs();
         }
     }
