@@ -5,7 +5,7 @@ mod common;
 
 use common::{penumbra, text};
 use penumbra::renderer::driver::Stop;
-use penumbra::renderer::Film;
+use penumbra::renderer::{Film, IntegratorKind};
 use penumbra::scene::SourceFile;
 use penumbra::state::{read_state, write_state};
 use penumbra::RenderControl;
@@ -70,18 +70,31 @@ fn bits(film: &Film) -> Vec<u64> {
     film.pixels()
         .iter()
         .flat_map(|p| [p.sum[0], p.sum[1], p.sum[2], p.weight])
+        .chain(film.splats.iter().flatten().copied())
         .map(f64::to_bits)
         .collect()
 }
 
 /// Stopped after any number of passes (by cancelling from the pass callback), saved,
-/// read back and resumed, the render ends bit for bit where an uninterrupted one does.
+/// read back and resumed, the render ends bit for bit where an uninterrupted one does:
+/// for the path tracer, and for bidirectional path tracing, whose splat layer the state
+/// keeps too.
 #[test]
 fn a_resumed_render_equals_an_uninterrupted_one_bit_for_bit() {
-    let desc = desc();
+    for integrator in [IntegratorKind::Path, IntegratorKind::Bdpt] {
+        let mut desc = desc();
+        desc.render.integrator = integrator;
+        resume_equals_uninterrupted(&desc);
+    }
+}
+
+fn resume_equals_uninterrupted(desc: &penumbra::scene::SceneDesc) {
+    let desc = desc.clone();
+    let bdpt = desc.render.integrator == IntegratorKind::Bdpt;
     let full = penumbra::render(&desc, RenderControl::default()).unwrap();
     assert_eq!(full.film.samples_per_pixel, 12);
     assert_eq!(full.stats.stop, Stop::Done);
+    assert_eq!(!full.film.splats.is_empty(), bdpt, "splats from bdpt only");
     let dir = tempfile::tempdir().unwrap();
     for stop_after in [1u32, 5, 11] {
         let cancel = AtomicBool::new(false);
