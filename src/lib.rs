@@ -85,6 +85,8 @@ pub fn render(desc: &SceneDesc, control: RenderControl) -> Result<RenderResult, 
         rr_depth: r.rr_depth,
         direct: r.direct,
         debug_strategies: control.debug_strategies,
+        mlt: r.mlt,
+        seed: r.seed,
     });
     let options = RenderOptions {
         spp: r.spp,

@@ -1,4 +1,4 @@
-//! The light-transport integrators converge to the same image: the Cornell box (in the
+//! The light-transport integrators (`path`, `bdpt`, `mlt`) converge to the same image: the Cornell box (in the
 //! repository), the Veach MIS scene and the Veach bidirectional room (from ../shared,
 //! skipped with a note when it is absent).
 //!
@@ -99,7 +99,11 @@ fn integrators_agree_on_the_cornell_box() {
         "Cornell box",
         desc,
         (64, 64),
-        &[(IntegratorKind::Path, 256), (IntegratorKind::Bdpt, 64)],
+        &[
+            (IntegratorKind::Path, 256),
+            (IntegratorKind::Bdpt, 64),
+            (IntegratorKind::Mlt, 1024),
+        ],
     );
 }
 

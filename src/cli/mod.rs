@@ -32,7 +32,7 @@ pub struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Render a scene file to an image.
-    Render(RenderArgs),
+    Render(Box<RenderArgs>),
     /// Measure: `penumbra bench accel MESH_OR_SCENE` races the acceleration structures.
     #[command(subcommand)]
     Bench(bench::BenchCommand),
@@ -65,7 +65,8 @@ pub struct RenderArgs {
     #[arg(long)]
     pub seed: Option<u64>,
     /// Integrator: whitted (the default scene's), direct (Monte Carlo direct lighting),
-    /// path (path tracing), bdpt (bidirectional path tracing).
+    /// path (path tracing), bdpt (bidirectional path tracing), mlt (Metropolis light
+    /// transport over bidirectional paths; --spp counts mutations per pixel).
     #[arg(long)]
     pub integrator: Option<String>,
     /// How `direct` samples the lights: mis (default), grid, uniform, stratified,
@@ -133,6 +134,22 @@ pub struct RenderArgs {
     /// files beside the output (OUTPUT_d<segments>_s<s>_t<t>[_unweighted].exr).
     #[arg(long)]
     pub debug_strategies: bool,
+    /// `mlt`: probability of a large step (every primary sample afresh) [default: 0.3].
+    #[arg(long, value_parser = parse_unit)]
+    pub mlt_large_step: Option<f32>,
+    /// `mlt`: standard deviation of a small step's offsets [default: 0.01].
+    #[arg(long, value_parser = parse_unit)]
+    pub mlt_sigma: Option<f32>,
+    /// `mlt`: number of Markov chains [default: 1000].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
+    pub mlt_chains: Option<u32>,
+    /// `mlt`: bootstrap samples (per path length when multiplexed) [default: 100000].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100_000_000))]
+    pub mlt_bootstrap: Option<u32>,
+    /// `mlt`: Kelemen's plain form (each state a whole bidirectional sample) instead of
+    /// the multiplexed one (chains choose the strategy).
+    #[arg(long)]
+    pub mlt_plain: bool,
 }
 
 fn parse_positive(s: &str) -> Result<f32, String> {
@@ -195,7 +212,7 @@ pub enum Failure {
 
 pub fn run(cli: Cli) -> Result<(), Failure> {
     match cli.command {
-        Some(Command::Render(args)) => render::run(args),
+        Some(Command::Render(args)) => render::run(*args),
         Some(Command::Bench(command)) => bench::run(command),
         Some(Command::Diff(args)) => diff::run(args),
         None => render::run(cli.render),
@@ -209,4 +226,14 @@ fn parse_define(s: &str) -> Result<(String, String), String> {
         return Err(format!("`{name}` is not a parameter name (letters, digits, _)"));
     }
     Ok((name.to_string(), value.to_string()))
+}
+
+/// A number in [0, 1].
+fn parse_unit(s: &str) -> Result<f32, String> {
+    let v: f32 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
+    if (0.0..=1.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("{v} is not between 0 and 1"))
+    }
 }

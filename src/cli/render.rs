@@ -79,6 +79,12 @@ fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) -> Result<(), Failur
     if let Some(w) = args.min_weight {
         r.min_weight = w;
     }
+    let m = &mut r.mlt;
+    m.large_step_probability = args.mlt_large_step.unwrap_or(m.large_step_probability);
+    m.sigma = args.mlt_sigma.unwrap_or(m.sigma);
+    m.chains = args.mlt_chains.unwrap_or(m.chains);
+    m.bootstrap = args.mlt_bootstrap.unwrap_or(m.bootstrap);
+    m.multiplexed &= !args.mlt_plain;
     if let Some((w, h)) = args.res {
         r.width = w;
         r.height = h;
@@ -252,6 +258,18 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
         ),
     };
     apply_overrides(&mut desc, &args)?;
+    if desc.render.integrator == IntegratorKind::Mlt {
+        if args.resume {
+            return Err(bad(
+                "--resume: mlt's Markov chains are not kept in the state; render afresh (--time still stops a render when asked)",
+            ));
+        }
+        if args.aovs {
+            return Err(bad(
+                "--aovs: mlt samples no pixel directly; use another integrator for the AOVs",
+            ));
+        }
+    }
     if args.debug_strategies {
         if desc.render.integrator != IntegratorKind::Bdpt {
             return Err(bad(
@@ -332,7 +350,9 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
         .build()
         .map_err(|e| Failure::Internal(format!("cannot start worker threads: {e}")))?;
     let planned = r.spp;
-    let keep_state = args.checkpoint.is_some() || args.resume;
+    // (mlt's chains cannot be resumed: no state for it.)
+    let resumable = desc.render.integrator != IntegratorKind::Mlt;
+    let keep_state = resumable && (args.checkpoint.is_some() || args.resume);
     // Checkpoints: the image and the state, every `--checkpoint` seconds.
     let last_checkpoint = Mutex::new(Instant::now());
     let checkpoint = |film: &Film| {
@@ -341,7 +361,7 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
         if last.elapsed().as_secs_f32() < every {
             return;
         }
-        if let Err(e) = write_outputs(&args, film, Some((planned, print))) {
+        if let Err(e) = write_outputs(&args, film, resumable.then_some((planned, print))) {
             eprintln!("warning: checkpoint: {e}");
         }
         *last = Instant::now();
@@ -363,7 +383,7 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
     let film = &result.film;
     let s = &result.stats;
     // The state is kept when asked for, or when the render stopped short of its samples.
-    let keep_state = keep_state || s.stop != Stop::Done;
+    let keep_state = resumable && (keep_state || s.stop != Stop::Done);
     write_outputs(&args, film, keep_state.then_some((planned, print))).map_err(Failure::Internal)?;
     if !keep_state && state_file.exists() {
         // A finished render leaves no stale state behind.
@@ -385,6 +405,9 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
             s.rays.shadow,
             if film.rejected > 0 { format!(", {} NaN/Inf samples rejected", film.rejected) } else { String::new() }
         );
+        for note in &s.notes {
+            eprintln!("{note}");
+        }
         match s.stop {
             Stop::Done if args.time.is_some() => eprintln!(
                 "reached {} spp before the time budget; raise --spp to use the rest",

@@ -24,5 +24,5 @@ pub use frame::Frame;
 pub use glam::{Mat3, Mat4, UVec2, Vec2, Vec3};
 pub use ray::Ray;
 pub use rng::Pcg32;
-pub use samplers::{PixelSampler, SamplerKind};
+pub use samplers::{Draws, PixelSampler, SamplerKind};
 pub use transform::Transform;

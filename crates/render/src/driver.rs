@@ -85,6 +85,8 @@ pub struct RenderStats {
     pub samples: u64,
     pub rays: RayCounts,
     pub stop: Stop,
+    /// What the integrator reports about the render (Metropolis: acceptance rates).
+    pub notes: Vec<String>,
 }
 
 pub struct RenderResult {
@@ -116,7 +118,7 @@ pub fn render(
     scene: &Scene,
     integrator: &dyn Integrator,
     options: &RenderOptions,
-    mut film: Film,
+    film: Film,
     progress: &dyn Progress,
     cancel: &AtomicBool,
     after_pass: &mut dyn FnMut(&Film),
@@ -133,6 +135,47 @@ pub fn render(
         })
         .collect();
     let covering = covering_tiles(&tiles, scene.height, filter.margin);
+    let passes = integrator.passes();
+    let mut result = run_passes(
+        scene,
+        options,
+        film,
+        cancel,
+        after_pass,
+        start,
+        |index, film| match passes {
+            Some(p) => p.pass(scene, &filter, index, film, progress),
+            None => render_pass(
+                scene,
+                integrator,
+                options,
+                &filter,
+                (&tiles, &covering),
+                index,
+                film,
+                progress,
+            ),
+        },
+    );
+    if let Some(p) = passes {
+        result.stats.notes = p.report();
+    }
+    result
+}
+
+/// The progressive loop every integrator shares: `pass(index, film)` adds sample `index`
+/// of every pixel (for Metropolis: one mutation per pixel) to the film, until the film
+/// has `options.spp`, the time budget is spent or `cancel` is raised; `after_pass` sees
+/// the film after each pass.
+fn run_passes(
+    scene: &Scene,
+    options: &RenderOptions,
+    mut film: Film,
+    cancel: &AtomicBool,
+    after_pass: &mut dyn FnMut(&Film),
+    start: Instant,
+    mut pass: impl FnMut(u32, &mut Film) -> RayCounts,
+) -> RenderResult {
     let mut rays = RayCounts::default();
     let mut passes = 0u32;
     let stop = loop {
@@ -151,16 +194,8 @@ pub fn render(
             }
         }
         let index = film.samples_per_pixel;
-        rays.add(&render_pass(
-            scene,
-            integrator,
-            options,
-            &filter,
-            (&tiles, &covering),
-            index,
-            &mut film,
-            progress,
-        ));
+        rays.add(&pass(index, &mut film));
+        film.samples_per_pixel = index + 1;
         passes += 1;
         after_pass(&film);
     };
@@ -170,21 +205,26 @@ pub fn render(
         samples: passes as u64 * pixels,
         rays,
         stop,
+        notes: Vec::new(),
     };
     RenderResult { film, stats }
 }
 
 /// The pixel filter, tabulated once per render: sampled (narrow filters) or splatted.
-struct Filters {
+pub struct Filters {
     sampler: FilterSampler,
     /// For filters wider than a pixel.
     splat: Option<FilterTable>,
     /// Pixels a splat reaches beyond a tile's edge (0 without splatting).
     margin: u32,
-    /// The filter for the film's splat layer, whatever its width, and the factor that
-    /// makes it integrate to one (each of a pixel's samples estimates the pixel's value
-    /// through the normalised filter, by sampling or as a weighted mean).
-    layer: (FilterTable, f32),
+    /// The filter for the film's splat layer, whatever its width, and for each column and
+    /// row of pixels the factor that makes it integrate to one over the image: a pixel's
+    /// value is ∫ f(x - c) L(x) dx / ∫ f(x - c) dx over the image (what the weighted mean
+    /// of its samples estimates, or filter importance sampling), so near the borders the
+    /// factor is larger, and splats lose no light off the image's edge.
+    layer: FilterTable,
+    columns: Vec<f32>,
+    rows: Vec<f32>,
 }
 
 impl Filters {
@@ -192,34 +232,51 @@ impl Filters {
         let radius = scene.filter.radius();
         let splat = radius > 0.5;
         let table = FilterTable::new(&scene.filter);
-        // ∫ f over [-r, r] by the trapezoid rule on 4096 intervals.
-        let n = 4096;
-        let step = 2.0 * radius as f64 / n as f64;
-        let integral: f64 = (0..=n)
-            .map(|i| {
-                let w = if i == 0 || i == n { 0.5 } else { 1.0 };
-                w * scene.filter.eval_1d((-radius as f64 + i as f64 * step) as f32) as f64
-            })
-            .sum::<f64>()
-            * step;
-        let norm = if integral > 0.0 {
-            (1.0 / (integral * integral)) as f32
-        } else {
-            0.0
+        // ∫ f over [lo, hi] ∩ [-r, r], by the trapezoid rule on 1024 intervals.
+        let integral = |lo: f64, hi: f64| -> f64 {
+            let (lo, hi) = (lo.max(-radius as f64), hi.min(radius as f64));
+            if hi <= lo {
+                return 0.0;
+            }
+            let n = 1024;
+            let step = (hi - lo) / n as f64;
+            (0..=n)
+                .map(|i| {
+                    let w = if i == 0 || i == n { 0.5 } else { 1.0 };
+                    w * scene.filter.eval_1d((lo + i as f64 * step) as f32) as f64
+                })
+                .sum::<f64>()
+                * step
+        };
+        // Pixel centre c = k + 1/2 of a side of n pixels: ∫ f(x - c) over x in [0, n].
+        let factors = |n: u32| -> Vec<f32> {
+            (0..n)
+                .map(|k| {
+                    let c = k as f64 + 0.5;
+                    let mass = integral(-c, n as f64 - c);
+                    if mass > 0.0 {
+                        (1.0 / mass) as f32
+                    } else {
+                        0.0
+                    }
+                })
+                .collect()
         };
         Filters {
             sampler: FilterSampler::new(scene.filter),
             splat: splat.then(|| table.clone()),
             margin: if splat { (radius - 0.5).ceil() as u32 } else { 0 },
-            layer: (table, norm),
+            layer: table,
+            columns: factors(scene.width),
+            rows: factors(scene.height),
         }
     }
 
     /// Adds `value`, landing at film position `film`, to every pixel of a `width` x
     /// `height` film within the filter's radius, with the normalised filter's weight.
-    fn splat(&self, s: &Splat, (width, height): (u32, u32), out: &mut Vec<(u32, u32, Rgb)>) {
+    pub fn splat(&self, s: &Splat, (width, height): (u32, u32), out: &mut Vec<(u32, u32, Rgb)>) {
         let (film, value) = (s.film, s.value);
-        let (table, norm) = &self.layer;
+        let table = &self.layer;
         let r = table.radius();
         let lo = (film - Vec2::splat(r + 0.5)).ceil().max(Vec2::ZERO);
         let hi = (film + Vec2::splat(r - 0.5)).floor();
@@ -229,9 +286,9 @@ impl Filters {
         let x1 = (hi.x as u32).min(width - 1);
         let y1 = (hi.y as u32).min(height - 1);
         for py in lo.y as u32..=y1 {
-            let wy = table.eval(py as f32 + 0.5 - film.y) * norm;
+            let wy = table.eval(py as f32 + 0.5 - film.y) * self.rows[py as usize];
             for px in lo.x as u32..=x1 {
-                let w = wy * table.eval(px as f32 + 0.5 - film.x);
+                let w = wy * table.eval(px as f32 + 0.5 - film.x) * self.columns[px as usize];
                 if w != 0.0 {
                     out.push((s.layer, py * width + px, value * w));
                 }
@@ -284,7 +341,6 @@ fn render_pass(
     if let Some(aovs) = &mut film.aovs {
         merge_rows(aovs, width, merge, |r, i, a| add_aov(a, &r.aovs[i]));
     }
-    film.samples_per_pixel += 1;
     rays
 }
 

@@ -105,6 +105,9 @@ pub struct Film {
     pub rejected: u64,
     /// Sums of the splats each pixel received (empty until the first splat).
     pub splats: Vec<[f64; 3]>,
+    /// What the splat sums are multiplied by in the image (1, except for Metropolis light
+    /// transport, whose normalisation is estimated as it renders).
+    pub splat_scale: f64,
     /// Images kept apart from the film's own ([`Splat::layer`] > 0; bidirectional path
     /// tracing's strategies when asked for), splat sums per pixel.
     pub layers: BTreeMap<u32, Vec<[f32; 3]>>,
@@ -131,6 +134,7 @@ impl Film {
             samples_per_pixel: 0,
             rejected: 0,
             splats: Vec::new(),
+            splat_scale: 1.0,
             layers: BTreeMap::new(),
         }
     }
@@ -187,7 +191,7 @@ impl Film {
     /// The image: every pixel's estimate (its filtered mean plus its splats per sample),
     /// row by row from the top.
     pub fn image(&self) -> Vec<Rgb> {
-        let per_sample = 1.0 / self.samples_per_pixel.max(1) as f64;
+        let per_sample = self.splat_scale / self.samples_per_pixel.max(1) as f64;
         self.pixels
             .iter()
             .enumerate()

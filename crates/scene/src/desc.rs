@@ -47,6 +47,8 @@ pub struct RenderDesc {
     pub accel: AccelKind,
     /// Settings of the `direct` integrator.
     pub direct: DirectOptions,
+    /// Settings of the `mlt` integrator.
+    pub mlt: penumbra_render::integrators::MltOptions,
 }
 
 impl Default for RenderDesc {
@@ -64,6 +66,7 @@ impl Default for RenderDesc {
             filter: Filter::default(),
             accel: AccelKind::default(),
             direct: DirectOptions::default(),
+            mlt: Default::default(),
         }
     }
 }

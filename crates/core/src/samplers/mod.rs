@@ -251,6 +251,30 @@ impl PixelSampler {
     }
 }
 
+/// A source of the uniform numbers a path consumes, one dimension after another: a pixel's
+/// sampler, or the primary sample space of a Markov chain (Metropolis light transport),
+/// which keeps separate streams for the parts of a path so that a change of one part's
+/// length does not shift the numbers of the others.
+pub trait Draws {
+    fn next_1d(&mut self) -> f32;
+    fn next_2d(&mut self) -> Vec2;
+    /// Continue from stream `k` (0: camera subpath, 1: light subpath, 2: connections);
+    /// ignored by pixel samplers.
+    fn start_stream(&mut self, _k: usize) {}
+}
+
+impl Draws for PixelSampler {
+    #[inline]
+    fn next_1d(&mut self) -> f32 {
+        PixelSampler::next_1d(self)
+    }
+
+    #[inline]
+    fn next_2d(&mut self) -> Vec2 {
+        PixelSampler::next_2d(self)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -6,6 +6,7 @@
 mod bdpt;
 mod diffuse_lanes;
 mod direct;
+mod mlt;
 mod nee;
 mod path;
 pub(crate) mod path_diffuse;
@@ -13,13 +14,15 @@ mod whitted;
 
 pub use bdpt::{strategy_layer, Bdpt};
 pub use direct::{Direct, DirectOptions, LightSampling, MisHeuristic};
+pub use mlt::{Mlt, MltOptions};
 pub use path::{PathTracer, BATCH, RR_DEPTH};
 pub use whitted::Whitted;
 
 use crate::bsdfs::TransportMode;
+use crate::driver::{Filters, Progress};
 pub use crate::film::Splat;
 use crate::lights::LightSample;
-use crate::Scene;
+use crate::{Film, Scene};
 use glam::Vec3;
 use nee::Shading;
 use penumbra_core::{PixelSampler, Ray, Rgb};
@@ -73,6 +76,23 @@ pub trait Integrator: Send + Sync {
             *out = self.li(scene, ray, sampler, counts, splats);
         }
     }
+
+    /// For integrators that render whole passes themselves instead of a pixel's samples
+    /// one by one (Metropolis light transport): that renderer.
+    fn passes(&self) -> Option<&dyn PassIntegrator> {
+        None
+    }
+}
+
+/// An integrator that renders the film a pass at a time (each pass worth one sample per
+/// pixel), splatting wherever its paths land.
+pub trait PassIntegrator: Sync {
+    /// Adds pass `index` to `film` (splats weighted by `filter`), reporting progress;
+    /// the rays traced.
+    fn pass(&self, scene: &Scene, filter: &Filters, index: u32, film: &mut Film, progress: &dyn Progress) -> RayCounts;
+
+    /// Lines that describe the render so far (acceptance rates), for the user.
+    fn report(&self) -> Vec<String>;
 }
 
 /// The largest `max_depth` a scene may ask for: recursion deeper than this could exhaust a
@@ -94,6 +114,10 @@ pub struct IntegratorOptions {
     /// `bdpt` also splats every strategy's contribution, weighted and not, to layers of
     /// their own ([`strategy_layer`]).
     pub debug_strategies: bool,
+    /// Settings of `mlt`.
+    pub mlt: MltOptions,
+    /// The render's seed (for integrators with random streams of their own: `mlt`).
+    pub seed: u64,
 }
 
 impl Default for IntegratorOptions {
@@ -104,6 +128,8 @@ impl Default for IntegratorOptions {
             rr_depth: RR_DEPTH,
             direct: DirectOptions::default(),
             debug_strategies: false,
+            mlt: MltOptions::default(),
+            seed: 0,
         }
     }
 }
@@ -115,10 +141,11 @@ pub enum IntegratorKind {
     Direct,
     Path,
     Bdpt,
+    Mlt,
 }
 
 impl IntegratorKind {
-    pub const NAMES: [&'static str; 4] = ["whitted", "direct", "path", "bdpt"];
+    pub const NAMES: [&'static str; 5] = ["whitted", "direct", "path", "bdpt", "mlt"];
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
@@ -126,6 +153,7 @@ impl IntegratorKind {
             "direct" => Some(IntegratorKind::Direct),
             "path" => Some(IntegratorKind::Path),
             "bdpt" => Some(IntegratorKind::Bdpt),
+            "mlt" => Some(IntegratorKind::Mlt),
             _ => None,
         }
     }
@@ -136,6 +164,7 @@ impl IntegratorKind {
             IntegratorKind::Direct => Box::new(Direct { options }),
             IntegratorKind::Path => Box::new(PathTracer::new(options)),
             IntegratorKind::Bdpt => Box::new(Bdpt { options }),
+            IntegratorKind::Mlt => Box::new(Mlt::new(options)),
         }
     }
 }

@@ -19,7 +19,7 @@ use crate::bsdfs::TransportMode;
 use crate::lights::{AreaSampling, LightSelection};
 use crate::Scene;
 use glam::Vec3;
-use penumbra_core::{PixelSampler, Ray, Rgb};
+use penumbra_core::{Draws, PixelSampler, Ray, Rgb};
 use vertex::{geometry, sides_agree, unoccluded, Kind, Vertex};
 
 pub struct Bdpt {
@@ -41,11 +41,30 @@ impl Integrator for Bdpt {
         counts: &mut RayCounts,
         splats: &mut Vec<Splat>,
     ) -> Rgb {
+        self.sample(scene, ray, sampler, counts, splats)
+    }
+}
+
+impl Bdpt {
+    /// One bidirectional sample for camera ray `ray`: the radiance of the camera sample,
+    /// with light tracing's contributions to other pixels in `splats`. The numbers come
+    /// from three streams of `sampler`: the camera subpath (0), the light subpath (1),
+    /// the connections (2).
+    pub(crate) fn sample(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        sampler: &mut impl Draws,
+        counts: &mut RayCounts,
+        splats: &mut Vec<Splat>,
+    ) -> Rgb {
         let max_depth = self.options.max_depth as usize;
         let mut camera = Vec::with_capacity(max_depth + 1);
-        let walk = self.camera_subpath(scene, ray, sampler, &mut camera, counts);
+        let walk = self.camera_subpath(scene, ray, sampler, max_depth + 1, &mut camera, counts);
         let mut light = Vec::with_capacity(max_depth);
-        self.light_subpath(scene, sampler, &mut light, counts);
+        sampler.start_stream(1);
+        self.light_subpath(scene, sampler, max_depth, &mut light, counts);
+        sampler.start_stream(2);
         let mut radiance = walk.background;
         // Where the camera sample lies on the film, for the strategies' own images.
         let own = match (self.options.debug_strategies, scene.camera.image_plane()) {
@@ -79,15 +98,57 @@ impl Integrator for Bdpt {
         }
         radiance
     }
-}
 
-impl Bdpt {
-    /// The camera subpath of `ray`: the lens point, then what the walk meets.
+    /// The value of strategy (s, t) for one path of `segments` segments, the strategy
+    /// chosen by the sampler's first number, each of the `segments + 1` equally likely
+    /// (Hachisuka et al. 2014's multiplexing, as pbrt's `MLTIntegrator` does it): the
+    /// MIS-weighted value over that probability, and the film position it belongs to.
+    /// `None` when either subpath falls short or the strategy brings nothing.
+    pub(crate) fn strategy_sample(
+        &self,
+        scene: &Scene,
+        segments: usize,
+        sampler: &mut impl Draws,
+        counts: &mut RayCounts,
+    ) -> Option<(Rgb, glam::Vec2)> {
+        sampler.start_stream(0);
+        let (s, t, n) = if segments == 1 {
+            (0, 2, 1)
+        } else {
+            let n = segments + 1;
+            let s = ((sampler.next_1d() * n as f32) as usize).min(n - 1);
+            (s, n - s, n)
+        };
+        let film = sampler.next_2d() * glam::Vec2::new(scene.width as f32, scene.height as f32);
+        let u_lens = sampler.next_2d();
+        let ray = scene.camera.generate_ray(film, u_lens);
+        let mut camera = Vec::with_capacity(t);
+        let walk = self.camera_subpath(scene, &ray, sampler, t, &mut camera, counts);
+        if camera.len() != t {
+            // A camera path that left the scene one vertex short sees a background that is
+            // no light: only s = 0 makes such paths.
+            let escaped = s == 0 && camera.len() + 1 == t && !walk.background.is_black();
+            return escaped.then(|| (walk.background * n as f32, film));
+        }
+        sampler.start_stream(1);
+        let mut light = Vec::with_capacity(s);
+        self.light_subpath(scene, sampler, s, &mut light, counts);
+        if light.len() != s {
+            return None;
+        }
+        sampler.start_stream(2);
+        let (value, weight, at) = connect(scene, &light, &camera, s, t, sampler, counts)?;
+        Some((value * (weight * n as f32), at.unwrap_or(film)))
+    }
+
+    /// The camera subpath of `ray` of at most `max` vertices: the lens point, then what
+    /// the walk meets.
     fn camera_subpath<'a>(
         &self,
         scene: &'a Scene,
         ray: &Ray,
-        sampler: &mut PixelSampler,
+        sampler: &mut impl Draws,
+        max: usize,
         path: &mut Vec<Vertex<'a>>,
         counts: &mut RayCounts,
     ) -> Walk {
@@ -99,7 +160,6 @@ impl Bdpt {
         v.delta = plane.is_none();
         let pdf_dir = plane.map_or(1.0, |p| p.pdf_we(ray.origin, ray.dir).1);
         path.push(v);
-        let max = self.options.max_depth as usize + 1;
         self.walk(
             scene,
             *ray,
@@ -113,16 +173,17 @@ impl Bdpt {
         )
     }
 
-    /// The light subpath: a light chosen by power, an emitted ray, then the walk.
+    /// The light subpath of at most `max` vertices: a light chosen by power, an emitted
+    /// ray, then the walk.
     fn light_subpath<'a>(
         &self,
         scene: &'a Scene,
-        sampler: &mut PixelSampler,
+        sampler: &mut impl Draws,
+        max: usize,
         path: &mut Vec<Vertex<'a>>,
         counts: &mut RayCounts,
     ) {
         let (u_pick, u_pos, u_dir) = (sampler.next_1d(), sampler.next_2d(), sampler.next_2d());
-        let max = self.options.max_depth as usize;
         if max == 0 {
             return;
         }
@@ -184,7 +245,7 @@ impl Bdpt {
         pdf_dir: f32,
         max: usize,
         mode: TransportMode,
-        sampler: &mut PixelSampler,
+        sampler: &mut impl Draws,
         path: &mut Vec<Vertex<'a>>,
         counts: &mut RayCounts,
     ) -> Walk {
@@ -279,7 +340,7 @@ fn connect(
     camera: &[Vertex],
     s: usize,
     t: usize,
-    sampler: &mut PixelSampler,
+    sampler: &mut impl Draws,
     counts: &mut RayCounts,
 ) -> Option<(Rgb, f32, Option<glam::Vec2>)> {
     let pt = &camera[t - 1];

@@ -158,6 +158,7 @@ fn read_render(t: &Table) -> Result<RenderDesc> {
         },
         accel,
         direct,
+        mlt: d.mlt,
     })
 }
 

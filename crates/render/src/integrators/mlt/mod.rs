@@ -1,0 +1,397 @@
+//! Metropolis light transport in primary sample space (Kelemen et al. 2002) over
+//! bidirectional paths, as pbrt-v4's `MLTIntegrator` does it.
+//!
+//! A state of a Markov chain is a vector of uniform numbers ([`PrimarySamples`]); the path
+//! it maps to is made by bidirectional path tracing, and the chain's target is the
+//! luminance I of what the path brings to the film. Each mutation is a large step (every
+//! number afresh, with the large-step probability) or a small one (each moved by a normal
+//! offset of size `sigma`); it is accepted with probability min(1, I'/I), and both the
+//! proposal and the current state are splatted, weighted by their acceptance
+//! probabilities (Veach's expected-value form). A bootstrap phase of uniformly drawn
+//! states estimates the normalisation b = ∫ I and picks the chains' starting states in
+//! proportion to I, so that no start-up bias remains.
+//!
+//! Multiplexed (the default; Hachisuka et al., "Multiplexed Metropolis Light Transport",
+//! 2014): each chain keeps one path length, and the first number of the state chooses the
+//! bidirectional strategy (s, t), so the chain moves between strategies where each does
+//! well; the value is the strategy's MIS-weighted contribution over its probability.
+//! Plain (Kelemen's): the state is a whole bidirectional sample (a camera ray, both
+//! subpaths, every strategy), which may splat to several pixels.
+//!
+//! A pass is one mutation per pixel, shared among the chains; the film's splat layer holds
+//! the sums, and the image is their mean per pass. Chains run in parallel, and each
+//! chunk of chains is added to the film in chain order, so the image does not depend on
+//! the thread count.
+
+mod sampler;
+
+pub use sampler::PrimarySamples;
+
+use super::bdpt::Bdpt;
+use super::{Integrator, IntegratorOptions, PassIntegrator, RayCounts, Splat};
+use crate::driver::{Filters, Progress};
+use crate::{Film, Scene};
+use glam::Vec2;
+use penumbra_core::{Distribution1D, Draws, PixelSampler, Ray, Rgb};
+use rayon::prelude::*;
+use std::sync::Mutex;
+
+/// The Metropolis settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MltOptions {
+    /// Uniform states drawn to estimate the normalisation and start the chains (per path
+    /// length when multiplexed).
+    pub bootstrap: u32,
+    /// Independent Markov chains.
+    pub chains: u32,
+    /// Probability of a large step (every number afresh).
+    pub large_step_probability: f32,
+    /// Standard deviation of a small step's offsets.
+    pub sigma: f32,
+    /// Multiplexed: chains choose the bidirectional strategy; else each state is a whole
+    /// bidirectional sample.
+    pub multiplexed: bool,
+}
+
+impl Default for MltOptions {
+    fn default() -> Self {
+        MltOptions {
+            bootstrap: 100_000,
+            chains: 1000,
+            large_step_probability: 0.3,
+            sigma: 0.01,
+            multiplexed: true,
+        }
+    }
+}
+
+pub struct Mlt {
+    bdpt: Bdpt,
+    options: MltOptions,
+    max_depth: usize,
+    seed: u64,
+    state: Mutex<Option<Chains>>,
+}
+
+/// The chains and what the bootstrap found.
+struct Chains {
+    chains: Vec<Chain>,
+    /// Per path length (one for plain), the sum and count of the importance of uniformly
+    /// drawn states: the bootstrap's, then every large step's proposal (Kelemen et al.
+    /// section 4: large steps are uniform samples, so they keep refining the estimate).
+    uniform: Vec<(f64, u64)>,
+    /// Bootstrap states that brought anything, out of how many.
+    bootstrap_hits: (u64, u64),
+}
+
+impl Chains {
+    /// The normalisation b = ∫ I over primary sample space, over all path lengths.
+    fn b(&self) -> f64 {
+        self.uniform
+            .iter()
+            .map(|&(sum, n)| if n > 0 { sum / n as f64 } else { 0.0 })
+            .sum()
+    }
+}
+
+struct Chain {
+    samples: PrimarySamples,
+    /// Path segments (multiplexed; 0 for plain).
+    segments: usize,
+    current: Vec<Splat>,
+    importance: f32,
+    /// Importance of this pass's large-step proposals: sum and count.
+    uniform: (f64, u64),
+    /// Mutations (large, small) proposed and accepted.
+    proposed: [u64; 2],
+    accepted: [u64; 2],
+}
+
+/// A splat weighted for one pixel: (film layer, pixel index, value).
+type PixelSplat = (u32, u32, Rgb);
+
+/// The chains added to the film together: their splat lists held at once stay bounded.
+const CHAIN_CHUNK: usize = 64;
+
+impl Mlt {
+    pub fn new(options: IntegratorOptions) -> Self {
+        let (mlt, seed) = (options.mlt, options.seed);
+        // Roulette would only add noise to paths of a chosen length.
+        let bdpt = Bdpt {
+            options: IntegratorOptions {
+                rr_depth: u32::MAX,
+                debug_strategies: false,
+                ..options
+            },
+        };
+        Mlt {
+            bdpt,
+            options: mlt,
+            max_depth: options.max_depth as usize,
+            seed,
+            state: Mutex::new(None),
+        }
+    }
+
+    /// The contributions of the state `samples` maps to (with `segments` segments when
+    /// multiplexed), into `out`; their importance (total luminance).
+    fn evaluate(
+        &self,
+        scene: &Scene,
+        samples: &mut PrimarySamples,
+        segments: usize,
+        out: &mut Vec<Splat>,
+        counts: &mut RayCounts,
+    ) -> f32 {
+        out.clear();
+        if self.options.multiplexed {
+            if let Some((value, film)) = self.bdpt.strategy_sample(scene, segments, samples, counts) {
+                out.push(Splat { film, value, layer: 0 });
+            }
+        } else {
+            samples.start_stream(0);
+            let film = samples.next_2d() * Vec2::new(scene.width as f32, scene.height as f32);
+            let u_lens = samples.next_2d();
+            let ray = scene.camera.generate_ray(film, u_lens);
+            counts.camera += 1;
+            let value = self.bdpt.sample(scene, &ray, samples, counts, out);
+            out.push(Splat { film, value, layer: 0 });
+        }
+        out.retain(|s| s.value.is_finite() && !s.value.is_black());
+        out.iter().map(|s| s.value.luminance().max(0.0)).sum()
+    }
+
+    /// The bootstrap: uniform states (per path length when multiplexed), the normalisation
+    /// and the chains started in proportion to their importance.
+    fn start(&self, scene: &Scene, counts: &mut RayCounts) -> Chains {
+        let lengths = if self.options.multiplexed { self.max_depth } else { 1 };
+        let n = self.options.bootstrap as usize * lengths;
+        let new_samples = |k: usize| {
+            PrimarySamples::new(
+                self.seed,
+                k as u64,
+                self.options.sigma,
+                self.options.large_step_probability,
+            )
+        };
+        let segments_of = |k: usize| if self.options.multiplexed { k % lengths + 1 } else { 0 };
+        let (weights, rays): (Vec<f32>, Vec<RayCounts>) = (0..n)
+            .into_par_iter()
+            .map(|k| {
+                let mut counts = RayCounts::default();
+                let mut out = Vec::new();
+                let w = self.evaluate(scene, &mut new_samples(k), segments_of(k), &mut out, &mut counts);
+                (w, counts)
+            })
+            .unzip();
+        rays.iter().for_each(|r| counts.add(r));
+        let hits = weights.iter().filter(|&&w| w > 0.0).count() as u64;
+        let mut uniform = vec![(0.0, 0u64); lengths];
+        for (k, &w) in weights.iter().enumerate() {
+            let u = &mut uniform[k % lengths];
+            (u.0, u.1) = (u.0 + w as f64, u.1 + 1);
+        }
+        let Some(distribution) = Distribution1D::new(weights.iter().copied()) else {
+            return Chains {
+                chains: Vec::new(),
+                uniform,
+                bootstrap_hits: (0, n as u64),
+            };
+        };
+        let mut chains: Vec<Chain> = (0..self.options.chains.max(1) as u64)
+            .into_par_iter()
+            .map(|c| {
+                let mut pick = penumbra_core::Pcg32::new(self.seed ^ 0x9e37_79b9_7f4a_7c15, c);
+                let (k, _, _) = distribution.sample(pick.next_f32());
+                let mut samples = new_samples(k);
+                let mut current = Vec::new();
+                let importance = self.evaluate(
+                    scene,
+                    &mut samples,
+                    segments_of(k),
+                    &mut current,
+                    &mut RayCounts::default(),
+                );
+                Chain {
+                    samples,
+                    segments: segments_of(k),
+                    current,
+                    importance,
+                    uniform: (0.0, 0),
+                    proposed: [0; 2],
+                    accepted: [0; 2],
+                }
+            })
+            .collect();
+        chains.retain(|c| c.importance > 0.0);
+        Chains {
+            chains,
+            uniform,
+            bootstrap_hits: (hits, n as u64),
+        }
+    }
+}
+
+impl Chain {
+    /// `m` mutations; the splats they make (weighted by `filter`; in units of the
+    /// normalisation, which the film's splat scale supplies).
+    fn run(
+        &mut self,
+        mlt: &Mlt,
+        scene: &Scene,
+        filter: &Filters,
+        m: usize,
+        out: &mut Vec<PixelSplat>,
+        counts: &mut RayCounts,
+    ) {
+        let b = 1.0;
+        let size = (scene.width, scene.height);
+        let mut proposal = Vec::new();
+        for _ in 0..m {
+            self.samples.start_iteration();
+            let large = self.samples.is_large_step() as usize;
+            let importance = mlt.evaluate(scene, &mut self.samples, self.segments, &mut proposal, counts);
+            if large == 1 {
+                self.uniform = (self.uniform.0 + importance as f64, self.uniform.1 + 1);
+            }
+            let accept = if self.importance > 0.0 {
+                (importance / self.importance).min(1.0)
+            } else {
+                1.0
+            };
+            if accept > 0.0 {
+                for s in &proposal {
+                    let value = s.value * (accept * b / importance);
+                    filter.splat(&Splat { value, ..*s }, size, out);
+                }
+            }
+            if accept < 1.0 {
+                for s in &self.current {
+                    let value = s.value * ((1.0 - accept) * b / self.importance);
+                    filter.splat(&Splat { value, ..*s }, size, out);
+                }
+            }
+            self.proposed[1 - large] += 1;
+            if self.samples.uniform() < accept {
+                std::mem::swap(&mut self.current, &mut proposal);
+                self.importance = importance;
+                self.samples.accept();
+                self.accepted[1 - large] += 1;
+            } else {
+                self.samples.reject();
+            }
+        }
+    }
+}
+
+impl Integrator for Mlt {
+    /// A plain bidirectional sample (what a large step draws): for callers that ask one
+    /// camera ray at a time; renders go through the passes.
+    fn li(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+        splats: &mut Vec<Splat>,
+    ) -> Rgb {
+        self.bdpt.sample(scene, ray, sampler, counts, splats)
+    }
+
+    fn passes(&self) -> Option<&dyn PassIntegrator> {
+        Some(self)
+    }
+}
+
+impl PassIntegrator for Mlt {
+    fn pass(
+        &self,
+        scene: &Scene,
+        filter: &Filters,
+        _index: u32,
+        film: &mut Film,
+        progress: &dyn Progress,
+    ) -> RayCounts {
+        let mut counts = RayCounts::default();
+        let mut state = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        let chains = state.get_or_insert_with(|| self.start(scene, &mut counts));
+        let pixels = scene.width as usize * scene.height as usize;
+        let n = chains.chains.len();
+        if n == 0 {
+            // Nothing in the scene reaches the camera: the image stays black.
+            progress.advance(pixels as u64, counts.total());
+            return counts;
+        }
+        for (c0, chunk) in chains.chains.chunks_mut(CHAIN_CHUNK).enumerate() {
+            let results: Vec<(Vec<PixelSplat>, RayCounts)> = chunk
+                .par_iter_mut()
+                .enumerate()
+                .map(|(i, chain)| {
+                    // This pass's mutations shared out: one per pixel in all.
+                    let c = c0 * CHAIN_CHUNK + i;
+                    let m = pixels / n + usize::from(c < pixels % n);
+                    let (mut out, mut rays) = (Vec::new(), RayCounts::default());
+                    chain.run(self, scene, filter, m, &mut out, &mut rays);
+                    progress.advance(m as u64, rays.total());
+                    (out, rays)
+                })
+                .collect();
+            for (out, rays) in results {
+                counts.add(&rays);
+                for (layer, i, v) in out {
+                    film.add_splat(layer, i as usize, v);
+                }
+            }
+        }
+        // The large steps of the pass refine the normalisation, in chain order.
+        let lengths = chains.uniform.len();
+        for chain in &mut chains.chains {
+            let u = &mut chains.uniform[if lengths > 1 { chain.segments - 1 } else { 0 }];
+            (u.0, u.1) = (u.0 + chain.uniform.0, u.1 + chain.uniform.1);
+            chain.uniform = (0.0, 0);
+        }
+        film.splat_scale = chains.b();
+        counts
+    }
+
+    fn report(&self) -> Vec<String> {
+        let state = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        let Some(chains) = state.as_ref() else {
+            return Vec::new();
+        };
+        let (hits, n) = chains.bootstrap_hits;
+        let mut lines = vec![format!(
+            "mlt: bootstrap {hits} of {n} states brought light; normalisation {:.6e}; {} chains",
+            chains.b(),
+            chains.chains.len()
+        )];
+        let sum = |f: fn(&Chain) -> [u64; 2]| {
+            chains
+                .chains
+                .iter()
+                .map(f)
+                .fold([0u64; 2], |a, b| [a[0] + b[0], a[1] + b[1]])
+        };
+        let (proposed, accepted) = (sum(|c| c.proposed), sum(|c| c.accepted));
+        let rate = |a: u64, p: u64| if p > 0 { 100.0 * a as f64 / p as f64 } else { 0.0 };
+        lines.push(format!(
+            "mlt: acceptance {:.1}% of {} mutations (large steps {:.1}%, small steps {:.1}%)",
+            rate(accepted[0] + accepted[1], proposed[0] + proposed[1]),
+            proposed[0] + proposed[1],
+            rate(accepted[0], proposed[0]),
+            rate(accepted[1], proposed[1])
+        ));
+        let stuck = chains
+            .chains
+            .iter()
+            .filter(|c| c.proposed[1] >= 100 && c.accepted[1] * 100 < c.proposed[1])
+            .count();
+        if stuck > 0 {
+            lines.push(format!(
+                "warning: mlt: {stuck} of {} chains accepted fewer than 1% of their small steps: they may be stuck on a few bright paths (more chains, a larger large-step probability or more bootstrap samples help)",
+                chains.chains.len()
+            ));
+        }
+        lines
+    }
+}
