@@ -203,6 +203,7 @@ impl Bdpt {
             e.normal.dot(e.ray.dir).abs()
         };
         let beta = e.le * (cos / (pick * e.pdf_pos * e.pdf_dir));
+        counts.secondary += 1;
         self.walk(
             scene,
             e.ray,
@@ -260,7 +261,7 @@ impl Bdpt {
                 if mode == TransportMode::Radiance {
                     match scene.environment() {
                         Some((index, _)) => {
-                            let mut v = Vertex::new(scene, Kind::Light { index }, ray.origin + ray.dir, ray.dir, beta);
+                            let mut v = Vertex::new(scene, Kind::Light { index }, ray.origin + ray.dir, -ray.dir, beta);
                             v.pdf_fwd = pdf_fwd;
                             path.push(v);
                         }

@@ -179,6 +179,19 @@ pub fn setting(r: &mut Reader, directive: &str, kind: &str, p: &Params, here: Lo
                     }
                     IntegratorKind::Bdpt
                 }
+                "mlt" => {
+                    // pbrt's MLT is the multiplexed one (per-length chains choosing the strategy).
+                    let m = &mut r.desc.render.mlt;
+                    m.large_step_probability = p.float("largestepprobability", 0.3)?.clamp(0.0, 1.0);
+                    m.sigma = p.float("sigma", 0.01)?.clamp(0.0, 1.0);
+                    m.chains = p.int("chains", 1000)?.clamp(1, 10_000_000) as u32;
+                    m.bootstrap = p.int("bootstrapsamples", 100_000)?.clamp(1, 100_000_000) as u32;
+                    let mutations = p.int("mutationsperpixel", 0)?;
+                    if mutations > 0 {
+                        r.desc.render.spp = mutations.min(u32::MAX as i64) as u32;
+                    }
+                    IntegratorKind::Mlt
+                }
                 _ => {
                     r.warn(
                         "integrator",
