@@ -117,7 +117,11 @@ fn integrators_agree_on_the_veach_mis_scene() {
         "Veach MIS",
         desc,
         (128, 72),
-        &[(IntegratorKind::Path, 256), (IntegratorKind::Bdpt, 64)],
+        &[
+            (IntegratorKind::Path, 256),
+            (IntegratorKind::Bdpt, 64),
+            (IntegratorKind::Mlt, 256),
+        ],
     );
 }
 
@@ -131,6 +135,10 @@ fn integrators_agree_on_the_veach_bidirectional_room() {
         "Veach bidir",
         desc,
         (64, 64),
-        &[(IntegratorKind::Path, 512), (IntegratorKind::Bdpt, 64)],
+        &[
+            (IntegratorKind::Path, 512),
+            (IntegratorKind::Bdpt, 64),
+            (IntegratorKind::Mlt, 512),
+        ],
     );
 }

@@ -136,6 +136,9 @@ pub fn render(
         .collect();
     let covering = covering_tiles(&tiles, scene.height, filter.margin);
     let passes = integrator.passes();
+    // Set-up before the first pass (Metropolis's bootstrap): inside the time budget, but
+    // not taken for a pass when the next pass's length is estimated.
+    let prepared = passes.map(|p| p.prepare(scene, progress));
     let mut result = run_passes(
         scene,
         options,
@@ -160,6 +163,9 @@ pub fn render(
     if let Some(p) = passes {
         result.stats.notes = p.report();
     }
+    if let Some(rays) = prepared {
+        result.stats.rays.add(&rays);
+    }
     result
 }
 
@@ -178,6 +184,7 @@ fn run_passes(
 ) -> RenderResult {
     let mut rays = RayCounts::default();
     let mut passes = 0u32;
+    let first_pass = Instant::now();
     let stop = loop {
         if film.samples_per_pixel >= options.spp {
             break Stop::Done;
@@ -188,7 +195,11 @@ fn run_passes(
         if let Some(limit) = options.time_limit {
             // Stop when the next pass, as long as the mean one so far, would overrun.
             let elapsed = start.elapsed();
-            let mean = if passes > 0 { elapsed / passes } else { Duration::ZERO };
+            let mean = if passes > 0 {
+                first_pass.elapsed() / passes
+            } else {
+                Duration::ZERO
+            };
             if passes > 0 && elapsed + mean > limit {
                 break Stop::TimeLimit;
             }

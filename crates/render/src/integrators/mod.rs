@@ -87,6 +87,9 @@ pub trait Integrator: Send + Sync {
 /// An integrator that renders the film a pass at a time (each pass worth one sample per
 /// pixel), splatting wherever its paths land.
 pub trait PassIntegrator: Sync {
+    /// Work before the first pass (a bootstrap); the rays traced.
+    fn prepare(&self, scene: &Scene, progress: &dyn Progress) -> RayCounts;
+
     /// Adds pass `index` to `film` (splats weighted by `filter`), reporting progress;
     /// the rays traced.
     fn pass(&self, scene: &Scene, filter: &Filters, index: u32, film: &mut Film, progress: &dyn Progress) -> RayCounts;
