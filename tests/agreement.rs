@@ -107,38 +107,32 @@ fn integrators_agree_on_the_cornell_box() {
     );
 }
 
-#[test]
-fn integrators_agree_on_the_veach_mis_scene() {
-    let Some(path) = shared_scene("pbrt-veach-mis/scene-v4.pbrt") else {
+/// [`agree`] on a scene of ../shared (skipped with a note when it is absent), with
+/// `path`, `bdpt` and `mlt` at the given samples (mutations) per pixel.
+fn agree_on_shared(name: &str, relative: &str, size: (u32, u32), [path, bdpt, mlt]: [u32; 3]) {
+    let Some(file) = shared_scene(relative) else {
         return;
     };
-    let desc = penumbra::scene::read_scene(&path).unwrap();
-    agree(
-        "Veach MIS",
-        desc,
-        (128, 72),
-        &[
-            (IntegratorKind::Path, 256),
-            (IntegratorKind::Bdpt, 64),
-            (IntegratorKind::Mlt, 256),
-        ],
-    );
+    let desc = penumbra::scene::read_scene(&file).unwrap();
+    let runs = [
+        (IntegratorKind::Path, path),
+        (IntegratorKind::Bdpt, bdpt),
+        (IntegratorKind::Mlt, mlt),
+    ];
+    agree(name, desc, size, &runs);
+}
+
+#[test]
+fn integrators_agree_on_the_veach_mis_scene() {
+    agree_on_shared("Veach MIS", "pbrt-veach-mis/scene-v4.pbrt", (128, 72), [256, 64, 256]);
 }
 
 #[test]
 fn integrators_agree_on_the_veach_bidirectional_room() {
-    let Some(path) = shared_scene("pbrt-veach-bidir/scene-v4.pbrt") else {
-        return;
-    };
-    let desc = penumbra::scene::read_scene(&path).unwrap();
-    agree(
+    agree_on_shared(
         "Veach bidir",
-        desc,
+        "pbrt-veach-bidir/scene-v4.pbrt",
         (64, 64),
-        &[
-            (IntegratorKind::Path, 512),
-            (IntegratorKind::Bdpt, 64),
-            (IntegratorKind::Mlt, 512),
-        ],
+        [512, 64, 512],
     );
 }
