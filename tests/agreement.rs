@@ -136,3 +136,51 @@ fn integrators_agree_on_the_veach_bidirectional_room() {
         [512, 64, 512],
     );
 }
+
+/// Under an environment map with a small bright spot (a sun) and a blue upper half: a
+/// diffuse floor, a plastic and a rough metal ball. Light paths start from the map's own
+/// distribution on a disk facing the scene, and camera paths end at infinity.
+#[test]
+fn integrators_agree_under_an_environment_map() {
+    let dir = tempfile::tempdir().unwrap();
+    let (width, height) = (64u32, 32u32);
+    let pixels: Vec<Rgb> = (0..width * height)
+        .map(|i| {
+            let (x, y) = (i % width, i / width);
+            match (x, y) {
+                (20..=23, 5..=7) => Rgb::new(200.0, 180.0, 150.0),
+                (_, 0..=15) => Rgb::new(0.4, 0.5, 0.8),
+                _ => Rgb::splat(0.3),
+            }
+        })
+        .collect();
+    let sky = dir.path().join("sky.pfm");
+    let image = penumbra::scene::image_io::Image {
+        width,
+        height,
+        pixels: &pixels,
+    };
+    penumbra::scene::image_io::write_image(&sky, &image, 0.0).unwrap();
+    let text = format!(
+        "[render]\nmax_depth = 5\n[camera]\nposition = [0, 1.5, 4]\ntarget = [0, 0.5, 0]\nfov = 45\n\
+         [environment]\nfile = \"{}\"\n\
+         [[material]]\nname = \"floor\"\ntype = \"diffuse\"\nreflectance = 0.6\n\
+         [[material]]\nname = \"glossy\"\ntype = \"plastic\"\ndiffuse = [0.6, 0.3, 0.2]\n\
+         [[material]]\nname = \"metal\"\ntype = \"conductor\"\nroughness = 0.2\n\
+         [[shape]]\ntype = \"quad\"\ncorner = [-3, 0, 3]\nedge1 = [6, 0, 0]\nedge2 = [0, 0, -6]\nmaterial = \"floor\"\n\
+         [[shape]]\ntype = \"sphere\"\ncenter = [-0.6, 0.5, 0]\nradius = 0.5\nmaterial = \"glossy\"\n\
+         [[shape]]\ntype = \"sphere\"\ncenter = [0.6, 0.5, 0]\nradius = 0.5\nmaterial = \"metal\"\n",
+        sky.display()
+    );
+    let desc = penumbra::scene::formats::native::read(&SourceFile::new("env.toml", text)).unwrap();
+    agree(
+        "environment map",
+        desc,
+        (64, 48),
+        &[
+            (IntegratorKind::Path, 256),
+            (IntegratorKind::Bdpt, 128),
+            (IntegratorKind::Mlt, 512),
+        ],
+    );
+}
