@@ -89,10 +89,9 @@ pub(super) fn weight(
     // Strategies with fewer light vertices: light vertex i becomes the camera path's end.
     let mut ri = 1.0;
     for i in (0..s).rev() {
-        let v = if s == 1 {
-            sampled.unwrap_or(&light[0])
-        } else {
-            &light[i]
+        let v = match sampled {
+            Some(v) if s == 1 => v,
+            _ => &light[i],
         };
         let rev = if i == s - 1 {
             qs_rev.unwrap_or(v.pdf_rev)

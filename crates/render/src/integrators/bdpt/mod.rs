@@ -58,6 +58,20 @@ impl Bdpt {
         counts: &mut RayCounts,
         splats: &mut Vec<Splat>,
     ) -> Rgb {
+        self.sample_lengths(scene, ray, sampler, counts, splats, None)
+    }
+
+    /// [`Bdpt::sample`], also adding the luminance of what each path length (segments,
+    /// from 1) brings to `lengths[segments - 1]` when given.
+    pub(crate) fn sample_lengths(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        sampler: &mut impl Draws,
+        counts: &mut RayCounts,
+        splats: &mut Vec<Splat>,
+        mut lengths: Option<&mut [f64]>,
+    ) -> Rgb {
         let max_depth = self.options.max_depth as usize;
         let mut camera = Vec::with_capacity(max_depth + 1);
         let walk = self.camera_subpath(scene, ray, sampler, max_depth + 1, &mut camera, counts);
@@ -66,13 +80,17 @@ impl Bdpt {
         self.light_subpath(scene, sampler, max_depth, &mut light, counts);
         sampler.start_stream(2);
         let mut radiance = walk.background;
+        if let Some(l) = lengths.as_deref_mut().and_then(|l| l.get_mut(camera.len() - 1)) {
+            *l += walk.background.luminance() as f64;
+        }
         // Where the camera sample lies on the film, for the strategies' own images.
         let own = match (self.options.debug_strategies, scene.camera.image_plane()) {
             (true, Some(plane)) => plane.we(ray.origin, ray.dir).map(|(_, film)| film),
             _ => None,
         };
         for t in 1..=camera.len() {
-            for s in 0..=light.len() {
+            // (s = 1 samples a light of its own: it needs no light subpath.)
+            for s in 0..=light.len().max(1) {
                 let segments = s + t - 1;
                 if (s == 1 && t == 1) || segments < 1 || segments > max_depth {
                     continue;
@@ -87,6 +105,12 @@ impl Bdpt {
                         layer: 0,
                     }),
                     None => radiance += value * weight,
+                }
+                if let Some(l) = lengths.as_deref_mut() {
+                    let y = (value * weight).luminance() as f64;
+                    if y.is_finite() {
+                        l[segments - 1] += y;
+                    }
                 }
                 if let Some(film) = film.or(own).filter(|_| self.options.debug_strategies) {
                     for (weighted, v) in [(true, value * weight), (false, value)] {
@@ -133,7 +157,8 @@ impl Bdpt {
         sampler.start_stream(1);
         let mut light = Vec::with_capacity(s);
         self.light_subpath(scene, sampler, s, &mut light, counts);
-        if light.len() != s {
+        // (s = 1 samples a light of its own: it needs no light subpath.)
+        if light.len() != s && s != 1 {
             return None;
         }
         sampler.start_stream(2);

@@ -110,8 +110,15 @@ impl<'a> Vertex<'a> {
         }
     }
 
-    /// Unit direction to `other`, and the squared distance.
+    /// Unit direction to `other`, and the squared distance (1 when either is at infinity,
+    /// where the direction is the one stored, not rebuilt from far-apart points).
     fn towards(&self, other: &Vertex) -> Option<(Vec3, f32)> {
+        if self.infinite {
+            return Some((self.ng, 1.0));
+        }
+        if other.infinite {
+            return Some((-other.ng, 1.0));
+        }
         let d = other.p - self.p;
         let d2 = d.length_squared();
         (d2 > 0.0 && d2.is_finite()).then(|| (d / d2.sqrt(), d2))

@@ -79,6 +79,10 @@ struct Chains {
     chains: Vec<Chain>,
     /// The normalisation b = ∫ I over primary sample space (over all path lengths).
     b: f64,
+    /// Its share at each path length (segments from 1), for the multiplexed form, whose
+    /// chains each keep one length: their splats are scaled so that each length gets its
+    /// share whatever the number of chains the bootstrap gave it.
+    b_lengths: Vec<f64>,
     /// Bootstrap states that brought anything, out of how many.
     bootstrap_hits: (u64, u64),
 }
@@ -177,6 +181,7 @@ impl Mlt {
             return Chains {
                 chains: Vec::new(),
                 b: 0.0,
+                b_lengths: Vec::new(),
                 bootstrap_hits: (0, n as u64),
             };
         };
@@ -188,7 +193,8 @@ impl Mlt {
         // off by 2 to 20% (Cornell box, Veach MIS) where the image's shape was right.
         let pixels = scene.width as usize * scene.height as usize;
         let spp = (n.div_ceil(pixels)).clamp(4, 256) as u32;
-        let b = self.mean_luminance(scene, spp, counts);
+        let b_lengths = self.mean_luminance(scene, spp, counts);
+        let b = b_lengths.iter().sum();
         let mut chains: Vec<Chain> = (0..self.options.chains.max(1) as u64)
             .into_par_iter()
             .map(|c| {
@@ -203,6 +209,7 @@ impl Mlt {
                     &mut current,
                     &mut RayCounts::default(),
                 );
+                samples.reseed(self.seed ^ 0x2545_f491_4f6c_dd1d, c);
                 Chain {
                     samples,
                     segments: segments_of(k),
@@ -217,18 +224,20 @@ impl Mlt {
         Chains {
             chains,
             b,
+            b_lengths,
             bootstrap_hits: (hits, n as u64),
         }
     }
 
     /// The image's mean luminance by `spp` bidirectional samples per pixel (Sobol points,
-    /// rows in parallel, added in row order).
-    fn mean_luminance(&self, scene: &Scene, spp: u32, counts: &mut RayCounts) -> f64 {
+    /// rows in parallel, added in row order), per path length (segments from 1).
+    fn mean_luminance(&self, scene: &Scene, spp: u32, counts: &mut RayCounts) -> Vec<f64> {
         let sampler = PixelSampler::new(penumbra_core::SamplerKind::Sobol, self.seed ^ 0x5bd1_e995, spp);
-        let rows: Vec<(f64, RayCounts)> = (0..scene.height)
+        let lengths = self.max_depth.max(1);
+        let rows: Vec<(Vec<f64>, RayCounts)> = (0..scene.height)
             .into_par_iter()
             .map(|y| {
-                let (mut sum, mut rays, mut splats) = (0.0, RayCounts::default(), Vec::new());
+                let (mut sums, mut rays, mut splats) = (vec![0.0; lengths], RayCounts::default(), Vec::new());
                 let mut sampler = sampler.clone();
                 for x in 0..scene.width {
                     for index in 0..spp {
@@ -237,22 +246,30 @@ impl Mlt {
                         let ray = scene.camera.generate_ray(film, sampler.next_2d());
                         rays.camera += 1;
                         splats.clear();
-                        let l = self.bdpt.sample(scene, &ray, &mut sampler, &mut rays, &mut splats);
-                        let total = splats.iter().fold(l, |a, s| a + s.value);
-                        if total.is_finite() {
-                            sum += total.luminance() as f64;
+                        let mut by_length = vec![0.0; lengths];
+                        self.bdpt.sample_lengths(
+                            scene,
+                            &ray,
+                            &mut sampler,
+                            &mut rays,
+                            &mut splats,
+                            Some(&mut by_length),
+                        );
+                        if by_length.iter().all(|v| v.is_finite()) {
+                            sums.iter_mut().zip(&by_length).for_each(|(s, v)| *s += v);
                         }
                     }
                 }
-                (sum, rays)
+                (sums, rays)
             })
             .collect();
-        let mut sum = 0.0;
+        let mut sums = vec![0.0; lengths];
         for (s, r) in rows {
-            sum += s;
+            sums.iter_mut().zip(&s).for_each(|(a, b)| *a += b);
             counts.add(&r);
         }
-        sum / (scene.width as f64 * scene.height as f64 * spp as f64)
+        let n = scene.width as f64 * scene.height as f64 * spp as f64;
+        sums.iter().map(|s| s / n).collect()
     }
 }
 
@@ -264,11 +281,10 @@ impl Chain {
         mlt: &Mlt,
         scene: &Scene,
         filter: &Filters,
-        m: usize,
+        (m, b): (usize, f32),
         out: &mut Vec<PixelSplat>,
         counts: &mut RayCounts,
     ) {
-        let b = 1.0;
         let size = (scene.width, scene.height);
         let mut proposal = Vec::new();
         for _ in 0..m {
@@ -350,6 +366,24 @@ impl PassIntegrator for Mlt {
             progress.advance(pixels as u64, counts.total());
             return counts;
         }
+        // Multiplexed: the mutations this pass gives each path length, and the scale that
+        // makes that length's splats add up to its share b_l of b.
+        let share = |c: usize| pixels / n + usize::from(c < pixels % n);
+        let mut scales = vec![0.0f64; chains.b_lengths.len()];
+        if self.options.multiplexed {
+            for (c, chain) in chains.chains.iter().enumerate() {
+                scales[chain.segments - 1] += share(c) as f64;
+            }
+            for (k, m) in scales.iter_mut().enumerate() {
+                *m = if *m > 0.0 && chains.b > 0.0 {
+                    chains.b_lengths[k] * pixels as f64 / (chains.b * *m)
+                } else {
+                    0.0
+                };
+            }
+        }
+        let scales: Vec<f32> = scales.iter().map(|&x| x as f32).collect();
+        let scales = &scales;
         for (c0, chunk) in chains.chains.chunks_mut(CHAIN_CHUNK).enumerate() {
             let results: Vec<(Vec<PixelSplat>, RayCounts)> = chunk
                 .par_iter_mut()
@@ -357,9 +391,10 @@ impl PassIntegrator for Mlt {
                 .map(|(i, chain)| {
                     // This pass's mutations shared out: one per pixel in all.
                     let c = c0 * CHAIN_CHUNK + i;
-                    let m = pixels / n + usize::from(c < pixels % n);
+                    let m = share(c);
                     let (mut out, mut rays) = (Vec::new(), RayCounts::default());
-                    chain.run(self, scene, filter, m, &mut out, &mut rays);
+                    let scale = scales.get(chain.segments.wrapping_sub(1)).copied().unwrap_or(1.0);
+                    chain.run(self, scene, filter, (m, scale), &mut out, &mut rays);
                     progress.advance(m as u64, rays.total());
                     (out, rays)
                 })

@@ -13,12 +13,26 @@ use penumbra_core::{Draws, Pcg32};
 
 /// One coordinate of the primary sample vector, with its value before the mutation in
 /// flight (to restore on rejection).
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 struct Coordinate {
     value: f32,
     modified: u64,
     backup: f32,
     backup_modified: u64,
+}
+
+/// `modified` of a coordinate never drawn: its first read makes it uniform.
+const NEVER: u64 = u64::MAX;
+
+impl Default for Coordinate {
+    fn default() -> Self {
+        Coordinate {
+            value: 0.0,
+            modified: NEVER,
+            backup: 0.0,
+            backup_modified: NEVER,
+        }
+    }
 }
 
 /// The streams the numbers are drawn from, interleaved in the vector.
@@ -84,6 +98,12 @@ impl PrimarySamples {
         self.iteration -= 1;
     }
 
+    /// Gives the chain a random stream of its own (`seed`, `stream`) for its mutations
+    /// from now on: chains started from the same bootstrap state then part ways.
+    pub fn reseed(&mut self, seed: u64, stream: u64) {
+        self.rng = Pcg32::new(seed, stream);
+    }
+
     /// A uniform number from the chain's own generator (acceptance tests, choices).
     pub fn uniform(&mut self) -> f32 {
         self.rng.next_f32()
@@ -95,14 +115,15 @@ impl PrimarySamples {
             self.x.resize(i + 1, Coordinate::default());
         }
         let c = &mut self.x[i];
-        if c.modified < self.last_large_step {
+        // A number never drawn, or last drawn before the latest large step, is uniform.
+        if c.modified == NEVER || c.modified < self.last_large_step {
             (c.value, c.modified) = (self.rng.next_f32(), self.last_large_step);
         }
         (c.backup, c.backup_modified) = (c.value, c.modified);
         if self.large_step {
             c.value = self.rng.next_f32();
         } else {
-            let missed = (self.iteration - c.modified) as f32;
+            let missed = self.iteration.saturating_sub(c.modified).max(1) as f32;
             let normal = std::f32::consts::SQRT_2 * erf_inv(2.0 * self.rng.next_f32() - 1.0);
             let v = c.value + normal * self.sigma * missed.sqrt();
             c.value = v - v.floor();
