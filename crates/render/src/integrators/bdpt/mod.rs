@@ -41,29 +41,17 @@ impl Integrator for Bdpt {
         counts: &mut RayCounts,
         splats: &mut Vec<Splat>,
     ) -> Rgb {
-        self.sample(scene, ray, sampler, counts, splats)
+        self.sample(scene, ray, sampler, counts, splats, None)
     }
 }
 
 impl Bdpt {
     /// One bidirectional sample for camera ray `ray`: the radiance of the camera sample,
-    /// with light tracing's contributions to other pixels in `splats`. The numbers come
-    /// from three streams of `sampler`: the camera subpath (0), the light subpath (1),
-    /// the connections (2).
+    /// with light tracing's contributions to other pixels in `splats`, and, when
+    /// `lengths` is given, the luminance each path length (segments, from 1) brings added
+    /// to `lengths[segments - 1]`. The numbers come from three streams of `sampler`: the
+    /// camera subpath (0), the light subpath (1), the connections (2).
     pub(crate) fn sample(
-        &self,
-        scene: &Scene,
-        ray: &Ray,
-        sampler: &mut impl Draws,
-        counts: &mut RayCounts,
-        splats: &mut Vec<Splat>,
-    ) -> Rgb {
-        self.sample_lengths(scene, ray, sampler, counts, splats, None)
-    }
-
-    /// [`Bdpt::sample`], also adding the luminance of what each path length (segments,
-    /// from 1) brings to `lengths[segments - 1]` when given.
-    pub(crate) fn sample_lengths(
         &self,
         scene: &Scene,
         ray: &Ray,
@@ -432,14 +420,7 @@ fn connect(
             return None;
         }
         counts.shadow += 1;
-        let blocked = if ls.dist.is_finite() {
-            !unoccluded(scene, pt, &v)
-        } else {
-            let n = if pt.ng.dot(ls.wi) < 0.0 { -pt.ng } else { pt.ng };
-            let origin = penumbra_core::ray::offset_origin(pt.p, n);
-            scene.occluded(&Ray::new(origin, ls.wi), f32::INFINITY)
-        };
-        if blocked {
+        if !unoccluded(scene, pt, &v) {
             return None;
         }
         sampled = Some(v);

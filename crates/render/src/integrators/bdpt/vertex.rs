@@ -252,8 +252,13 @@ impl<'a> Vertex<'a> {
     }
 }
 
-/// Whether nothing blocks the segment between `a` and `b` (neither at infinity).
+/// Whether nothing blocks the segment between `a` and `b` (`b` may lie at infinity).
 pub(super) fn unoccluded(scene: &Scene, a: &Vertex, b: &Vertex) -> bool {
+    if b.infinite {
+        // Towards a light at infinity: along its stored direction, without end.
+        let dir = -b.ng;
+        return !scene.occluded(&Ray::new(a.origin_towards(a.p + dir), dir), f32::INFINITY);
+    }
     let from = a.origin_towards(b.p);
     let to = b.origin_towards(a.p);
     !scene.occluded(&Ray::new(from, to - from), super::super::SHADOW_T_MAX)

@@ -145,7 +145,7 @@ impl Mlt {
             let u_lens = samples.next_2d();
             let ray = scene.camera.generate_ray(film, u_lens);
             counts.camera += 1;
-            let value = self.bdpt.sample(scene, &ray, samples, counts, out);
+            let value = self.bdpt.sample(scene, &ray, samples, counts, out, None);
             out.push(Splat { film, value, layer: 0 });
         }
         out.retain(|s| s.value.is_finite() && !s.value.is_black());
@@ -238,6 +238,7 @@ impl Mlt {
             .into_par_iter()
             .map(|y| {
                 let (mut sums, mut rays, mut splats) = (vec![0.0; lengths], RayCounts::default(), Vec::new());
+                let mut by_length = vec![0.0f64; lengths];
                 let mut sampler = sampler.clone();
                 for x in 0..scene.width {
                     for index in 0..spp {
@@ -246,15 +247,9 @@ impl Mlt {
                         let ray = scene.camera.generate_ray(film, sampler.next_2d());
                         rays.camera += 1;
                         splats.clear();
-                        let mut by_length = vec![0.0; lengths];
-                        self.bdpt.sample_lengths(
-                            scene,
-                            &ray,
-                            &mut sampler,
-                            &mut rays,
-                            &mut splats,
-                            Some(&mut by_length),
-                        );
+                        by_length.fill(0.0);
+                        self.bdpt
+                            .sample(scene, &ray, &mut sampler, &mut rays, &mut splats, Some(&mut by_length));
                         if by_length.iter().all(|v| v.is_finite()) {
                             sums.iter_mut().zip(&by_length).for_each(|(s, v)| *s += v);
                         }
@@ -332,7 +327,7 @@ impl Integrator for Mlt {
         counts: &mut RayCounts,
         splats: &mut Vec<Splat>,
     ) -> Rgb {
-        self.bdpt.sample(scene, ray, sampler, counts, splats)
+        self.bdpt.sample(scene, ray, sampler, counts, splats, None)
     }
 
     fn passes(&self) -> Option<&dyn PassIntegrator> {
