@@ -86,6 +86,7 @@ pub fn render(desc: &SceneDesc, control: RenderControl) -> Result<RenderResult, 
         direct: r.direct,
         debug_strategies: control.debug_strategies,
         mlt: r.mlt,
+        photon: r.photon,
         seed: r.seed,
     });
     let options = RenderOptions {

@@ -215,6 +215,12 @@ fn mlt_is_identical_for_any_thread_count() {
     desc.render.spp = 4;
     desc.render.mlt.bootstrap = 2000;
     desc.render.mlt.chains = 40;
+    same_on_one_and_two_threads(&desc);
+}
+
+/// Renders `desc` on 1 and 2 threads (same seed: identical films) and with another seed
+/// (a different image).
+fn same_on_one_and_two_threads(desc: &SceneDesc) {
     let render = |threads: usize, seed: u64| {
         let mut desc = desc.clone();
         desc.render.seed = seed;
@@ -229,4 +235,23 @@ fn mlt_is_identical_for_any_thread_count() {
     assert!(reference.image().iter().any(|p| p.r > 0.0), "the chains found light");
     assert_eq!(reference, render(2, 3), "1 vs 2 threads");
     assert_ne!(reference, render(2, 4), "a different seed gives a different image");
+}
+
+/// The photon mappers give the same image on 1 and 2 threads: photons are traced in fixed
+/// chunks of their own random streams and concatenated in emission order, the k-d tree is
+/// built by a fixed rule, and each pixel sums its photons in the tree's order.
+#[test]
+fn photon_mapping_is_identical_for_any_thread_count() {
+    let mut desc = repository_scene("refraction.toml", 40, 30);
+    desc.render.spp = 3;
+    desc.render.photon.photons = 20_000;
+    desc.render.photon.caustic_photons = 5_000;
+    desc.render.photon.lookup = 20;
+    for kind in [
+        penumbra::renderer::IntegratorKind::Sppm,
+        penumbra::renderer::IntegratorKind::Photon,
+    ] {
+        desc.render.integrator = kind;
+        same_on_one_and_two_threads(&desc);
+    }
 }

@@ -150,6 +150,28 @@ pub struct RenderArgs {
     /// the multiplexed one (chains choose the strategy).
     #[arg(long)]
     pub mlt_plain: bool,
+    /// `sppm`: photons emitted per pass [default: one per pixel]; `photon`: photons kept
+    /// in the global map [default: 200000].
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=1_000_000_000))]
+    pub photons: Option<u64>,
+    /// `photon`: photons kept in the caustic map [default: 100000].
+    #[arg(long, value_parser = clap::value_parser!(u64).range(0..=1_000_000_000))]
+    pub caustic_photons: Option<u64>,
+    /// `sppm`: initial gather radius; `photon`: largest lookup radius (a quarter of it for
+    /// caustics), in scene units [default: two pixel footprints at the visible point;
+    /// 5% of the scene's size].
+    #[arg(long, value_parser = parse_positive, value_name = "RADIUS")]
+    pub photon_radius: Option<f32>,
+    /// `sppm`: share of a pass's photons a pixel keeps as its radius shrinks (α, in
+    /// (0, 1]) [default: 0.667].
+    #[arg(long, value_parser = parse_unit)]
+    pub sppm_alpha: Option<f32>,
+    /// `photon`: photons per density estimate (k nearest) [default: 100].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub photon_lookup: Option<u32>,
+    /// `photon`: final-gathering rays per camera sample [default: 4].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub gather_rays: Option<u32>,
 }
 
 fn parse_positive(s: &str) -> Result<f32, String> {

@@ -85,6 +85,14 @@ fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) -> Result<(), Failur
     m.chains = args.mlt_chains.unwrap_or(m.chains);
     m.bootstrap = args.mlt_bootstrap.unwrap_or(m.bootstrap);
     m.multiplexed &= !args.mlt_plain;
+    let ph = &mut r.photon;
+    ph.photons = args.photons.unwrap_or(ph.photons);
+    ph.caustic_photons = args.caustic_photons.unwrap_or(ph.caustic_photons);
+    ph.radius = args.photon_radius.unwrap_or(ph.radius);
+    ph.alpha = args.sppm_alpha.unwrap_or(ph.alpha);
+    ph.lookup = args.photon_lookup.unwrap_or(ph.lookup);
+    ph.gather = args.gather_rays.unwrap_or(ph.gather);
+    ph.check().map_err(|e| bad(format!("--sppm-alpha/--photon-*: {e}")))?;
     if let Some((w, h)) = args.res {
         r.width = w;
         r.height = h;
@@ -258,16 +266,21 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
         ),
     };
     apply_overrides(&mut desc, &args)?;
-    if desc.render.integrator == IntegratorKind::Mlt {
+    let what = match desc.render.integrator {
+        IntegratorKind::Mlt => Some(("mlt", "Markov chains")),
+        IntegratorKind::Sppm => Some(("sppm", "pixel statistics (radii, photon counts)")),
+        _ => None,
+    };
+    if let Some((name, kept)) = what {
         if args.resume {
-            return Err(bad(
-                "--resume: mlt's Markov chains are not kept in the state; render afresh (--time still stops a render when asked)",
-            ));
+            return Err(bad(format!(
+                "--resume: {name}'s {kept} are not kept in the state; render afresh (--time still stops a render when asked)",
+            )));
         }
         if args.aovs {
-            return Err(bad(
-                "--aovs: mlt samples no pixel directly; use another integrator for the AOVs",
-            ));
+            return Err(bad(format!(
+                "--aovs: {name} does not estimate pixels by samples of their own; use another integrator for the AOVs",
+            )));
         }
     }
     if args.debug_strategies {

@@ -136,9 +136,9 @@ pub fn render(
         .collect();
     let covering = covering_tiles(&tiles, scene.height, filter.margin);
     let passes = integrator.passes();
-    // Set-up before the first pass (Metropolis's bootstrap): inside the time budget, but
+    // Set-up before the first pass (Metropolis's bootstrap, photon maps): inside the time budget, but
     // not taken for a pass when the next pass's length is estimated.
-    let prepared = passes.map(|p| p.prepare(scene, progress));
+    let prepared = integrator.prepare(scene, progress);
     let mut result = run_passes(
         scene,
         options,
@@ -160,12 +160,8 @@ pub fn render(
             ),
         },
     );
-    if let Some(p) = passes {
-        result.stats.notes = p.report();
-    }
-    if let Some(rays) = prepared {
-        result.stats.rays.add(&rays);
-    }
+    result.stats.notes = integrator.report();
+    result.stats.rays.add(&prepared);
     result
 }
 
@@ -281,6 +277,13 @@ impl Filters {
             columns: factors(scene.width),
             rows: factors(scene.height),
         }
+    }
+
+    /// An offset from a pixel's centre drawn from the pixel filter, and its weight
+    /// f / pdf (about 1): filter importance sampling (Ernst et al. 2006), for integrators
+    /// that estimate each pixel by one point per pass.
+    pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
+        self.sampler.sample(u)
     }
 
     /// Adds `value`, landing at film position `film`, to every pixel of a `width` x

@@ -49,6 +49,8 @@ pub struct RenderDesc {
     pub direct: DirectOptions,
     /// Settings of the `mlt` integrator.
     pub mlt: penumbra_render::integrators::MltOptions,
+    /// Settings of the `sppm` and `photon` integrators.
+    pub photon: penumbra_render::integrators::PhotonOptions,
 }
 
 impl Default for RenderDesc {
@@ -67,6 +69,7 @@ impl Default for RenderDesc {
             accel: AccelKind::default(),
             direct: DirectOptions::default(),
             mlt: Default::default(),
+            photon: Default::default(),
         }
     }
 }

@@ -10,12 +10,18 @@ mod mlt;
 mod nee;
 mod path;
 pub(crate) mod path_diffuse;
+mod photon;
+mod photons;
+mod sppm;
 mod whitted;
 
 pub use bdpt::{strategy_layer, Bdpt};
 pub use direct::{Direct, DirectOptions, LightSampling, MisHeuristic};
 pub use mlt::{Mlt, MltOptions};
 pub use path::{PathTracer, BATCH, RR_DEPTH};
+pub use photon::PhotonMapper;
+pub use photons::{Photon, PhotonMap, PhotonOptions};
+pub use sppm::Sppm;
 pub use whitted::Whitted;
 
 use crate::bsdfs::TransportMode;
@@ -82,20 +88,25 @@ pub trait Integrator: Send + Sync {
     fn passes(&self) -> Option<&dyn PassIntegrator> {
         None
     }
+
+    /// Work before the first sample (Metropolis's bootstrap, the photon maps); the rays
+    /// traced. Renders call it once, before any sample.
+    fn prepare(&self, _scene: &Scene, _progress: &dyn Progress) -> RayCounts {
+        RayCounts::default()
+    }
+
+    /// Lines that describe the render so far (acceptance rates, photons), for the user.
+    fn report(&self) -> Vec<String> {
+        Vec::new()
+    }
 }
 
 /// An integrator that renders the film a pass at a time (each pass worth one sample per
 /// pixel), splatting wherever its paths land.
 pub trait PassIntegrator: Sync {
-    /// Work before the first pass (a bootstrap); the rays traced.
-    fn prepare(&self, scene: &Scene, progress: &dyn Progress) -> RayCounts;
-
     /// Adds pass `index` to `film` (splats weighted by `filter`), reporting progress;
     /// the rays traced.
     fn pass(&self, scene: &Scene, filter: &Filters, index: u32, film: &mut Film, progress: &dyn Progress) -> RayCounts;
-
-    /// Lines that describe the render so far (acceptance rates), for the user.
-    fn report(&self) -> Vec<String>;
 }
 
 /// The largest `max_depth` a scene may ask for: recursion deeper than this could exhaust a
@@ -119,6 +130,8 @@ pub struct IntegratorOptions {
     pub debug_strategies: bool,
     /// Settings of `mlt`.
     pub mlt: MltOptions,
+    /// Settings of `sppm` and `photon`.
+    pub photon: PhotonOptions,
     /// The render's seed (for integrators with random streams of their own: `mlt`).
     pub seed: u64,
 }
@@ -132,6 +145,7 @@ impl Default for IntegratorOptions {
             direct: DirectOptions::default(),
             debug_strategies: false,
             mlt: MltOptions::default(),
+            photon: PhotonOptions::default(),
             seed: 0,
         }
     }
@@ -145,10 +159,12 @@ pub enum IntegratorKind {
     Path,
     Bdpt,
     Mlt,
+    Sppm,
+    Photon,
 }
 
 impl IntegratorKind {
-    pub const NAMES: [&'static str; 5] = ["whitted", "direct", "path", "bdpt", "mlt"];
+    pub const NAMES: [&'static str; 7] = ["whitted", "direct", "path", "bdpt", "mlt", "sppm", "photon"];
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
@@ -157,6 +173,8 @@ impl IntegratorKind {
             "path" => Some(IntegratorKind::Path),
             "bdpt" => Some(IntegratorKind::Bdpt),
             "mlt" => Some(IntegratorKind::Mlt),
+            "sppm" => Some(IntegratorKind::Sppm),
+            "photon" => Some(IntegratorKind::Photon),
             _ => None,
         }
     }
@@ -168,6 +186,8 @@ impl IntegratorKind {
             IntegratorKind::Path => Box::new(PathTracer::new(options)),
             IntegratorKind::Bdpt => Box::new(Bdpt { options }),
             IntegratorKind::Mlt => Box::new(Mlt::new(options)),
+            IntegratorKind::Sppm => Box::new(Sppm::new(options)),
+            IntegratorKind::Photon => Box::new(PhotonMapper::new(options)),
         }
     }
 }

@@ -333,9 +333,7 @@ impl Integrator for Mlt {
     fn passes(&self) -> Option<&dyn PassIntegrator> {
         Some(self)
     }
-}
 
-impl PassIntegrator for Mlt {
     fn prepare(&self, scene: &Scene, _: &dyn Progress) -> RayCounts {
         let mut counts = RayCounts::default();
         let mut state = self.state.lock().unwrap_or_else(|e| e.into_inner());
@@ -343,6 +341,49 @@ impl PassIntegrator for Mlt {
         counts
     }
 
+    fn report(&self) -> Vec<String> {
+        let state = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        let Some(chains) = state.as_ref() else {
+            return Vec::new();
+        };
+        let (hits, n) = chains.bootstrap_hits;
+        let mut lines = vec![format!(
+            "mlt: bootstrap {hits} of {n} states brought light; normalisation {:.6e}; {} chains",
+            chains.b,
+            chains.chains.len()
+        )];
+        let sum = |f: fn(&Chain) -> [u64; 2]| {
+            chains
+                .chains
+                .iter()
+                .map(f)
+                .fold([0u64; 2], |a, b| [a[0] + b[0], a[1] + b[1]])
+        };
+        let (proposed, accepted) = (sum(|c| c.proposed), sum(|c| c.accepted));
+        let rate = |a: u64, p: u64| if p > 0 { 100.0 * a as f64 / p as f64 } else { 0.0 };
+        lines.push(format!(
+            "mlt: acceptance {:.1}% of {} mutations (large steps {:.1}%, small steps {:.1}%)",
+            rate(accepted[0] + accepted[1], proposed[0] + proposed[1]),
+            proposed[0] + proposed[1],
+            rate(accepted[0], proposed[0]),
+            rate(accepted[1], proposed[1])
+        ));
+        let stuck = chains
+            .chains
+            .iter()
+            .filter(|c| c.proposed[1] >= 100 && c.accepted[1] * 100 < c.proposed[1])
+            .count();
+        if stuck > 0 {
+            lines.push(format!(
+                "warning: mlt: {stuck} of {} chains accepted fewer than 1% of their small steps: they may be stuck on a few bright paths (more chains, a larger large-step probability or more bootstrap samples help)",
+                chains.chains.len()
+            ));
+        }
+        lines
+    }
+}
+
+impl PassIntegrator for Mlt {
     fn pass(
         &self,
         scene: &Scene,
@@ -403,46 +444,5 @@ impl PassIntegrator for Mlt {
         }
         film.splat_scale = chains.b;
         counts
-    }
-
-    fn report(&self) -> Vec<String> {
-        let state = self.state.lock().unwrap_or_else(|e| e.into_inner());
-        let Some(chains) = state.as_ref() else {
-            return Vec::new();
-        };
-        let (hits, n) = chains.bootstrap_hits;
-        let mut lines = vec![format!(
-            "mlt: bootstrap {hits} of {n} states brought light; normalisation {:.6e}; {} chains",
-            chains.b,
-            chains.chains.len()
-        )];
-        let sum = |f: fn(&Chain) -> [u64; 2]| {
-            chains
-                .chains
-                .iter()
-                .map(f)
-                .fold([0u64; 2], |a, b| [a[0] + b[0], a[1] + b[1]])
-        };
-        let (proposed, accepted) = (sum(|c| c.proposed), sum(|c| c.accepted));
-        let rate = |a: u64, p: u64| if p > 0 { 100.0 * a as f64 / p as f64 } else { 0.0 };
-        lines.push(format!(
-            "mlt: acceptance {:.1}% of {} mutations (large steps {:.1}%, small steps {:.1}%)",
-            rate(accepted[0] + accepted[1], proposed[0] + proposed[1]),
-            proposed[0] + proposed[1],
-            rate(accepted[0], proposed[0]),
-            rate(accepted[1], proposed[1])
-        ));
-        let stuck = chains
-            .chains
-            .iter()
-            .filter(|c| c.proposed[1] >= 100 && c.accepted[1] * 100 < c.proposed[1])
-            .count();
-        if stuck > 0 {
-            lines.push(format!(
-                "warning: mlt: {stuck} of {} chains accepted fewer than 1% of their small steps: they may be stuck on a few bright paths (more chains, a larger large-step probability or more bootstrap samples help)",
-                chains.chains.len()
-            ));
-        }
-        lines
     }
 }

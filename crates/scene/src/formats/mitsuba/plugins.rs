@@ -79,6 +79,9 @@ pub fn integrator(r: &mut Reader, at: At) -> Result<()> {
         "direct" => IntegratorKind::Direct,
         // Mitsuba 0.6's bidirectional path tracer (Mitsuba 3 has none).
         "bdpt" => IntegratorKind::Bdpt,
+        // Mitsuba 0.6's photon mappers.
+        "sppm" => IntegratorKind::Sppm,
+        "photonmapper" => IntegratorKind::Photon,
         other => {
             let text = format!(
                 "{}: integrator `{other}` is not supported: rendered with `path`",
@@ -122,6 +125,20 @@ pub fn integrator(r: &mut Reader, at: At) -> Result<()> {
                 format!("{}: `bsdf_samples` above 1 is read as 1", at.place()),
             );
         }
+    }
+    if matches!(integrator, IntegratorKind::Sppm | IntegratorKind::Photon) {
+        let count = |name: &str, default: u64| -> Result<u64> {
+            Ok(p.int(r, name)?.map_or(default, |n| n.clamp(0, 1_000_000_000) as u64))
+        };
+        let o = penumbra_render::integrators::PhotonOptions {
+            photons: count("photonCount", 0)?.max(count("globalPhotons", 0)?),
+            caustic_photons: count("causticPhotons", 100_000)?,
+            radius: p.float(r, "initialRadius")?.filter(|x| *x > 0.0 && x.is_finite()).unwrap_or(0.0),
+            alpha: p.float(r, "alpha")?.map_or(2.0 / 3.0, |a| a.clamp(0.01, 1.0)),
+            lookup: count("lookupSize", 100)?.clamp(1, 100_000) as u32,
+            ..r.desc.render.photon
+        };
+        r.desc.render.photon = o;
     }
     let render = &mut r.desc.render;
     render.max_depth = max_depth;

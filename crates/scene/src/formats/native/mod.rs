@@ -159,6 +159,7 @@ fn read_render(t: &Table) -> Result<RenderDesc> {
         accel,
         direct,
         mlt: d.mlt,
+        photon: d.photon,
     })
 }
 

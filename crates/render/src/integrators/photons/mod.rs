@@ -1,0 +1,434 @@
+//! What the photon-mapping integrators share (Jensen 1996, "Global Illumination Using
+//! Photon Maps"; Hachisuka and Jensen 2009): photons traced from the lights and kept where
+//! they meet a surface with a non-delta part ([`trace_photons`]), the map they are looked
+//! up in ([`PhotonMap`]), and the camera's walk through perfect mirrors and glass to the
+//! first surface that can take a density estimate ([`walk`]), with emission and direct
+//! lighting gathered on the way.
+//!
+//! Path lengths keep the meaning of `max_depth` (segments): a photon of s segments found
+//! at a point the camera reached in t segments makes a path of s + t segments, and is
+//! counted only when that is at most `max_depth`.
+//!
+//! At a surface with both delta lobes (a coat, glass) and a smooth part, the walk either
+//! stops there for a density estimate, with probability p_s (the smooth albedo's share),
+//! or goes on along one delta direction, chosen in proportion to its weight; each branch
+//! is divided by its probability, so the estimate stays unbiased whatever p_s is.
+
+mod map;
+
+pub use map::PhotonMap;
+
+use super::nee::{self, LightStrategy, Shading};
+use super::{IntegratorOptions, MisHeuristic, RayCounts};
+use crate::bsdfs::{Bsdf, TransportMode};
+use crate::lights::{AreaSampling, LightSelection};
+use crate::Scene;
+use glam::{Vec2, Vec3};
+use penumbra_core::{Draws, Frame, Pcg32, Ray, Rgb};
+use rayon::prelude::*;
+
+/// A photon where it met a surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Photon {
+    pub p: Vec3,
+    /// Unit direction back towards where it came from.
+    pub wi: Vec3,
+    /// Flux it carries (before dividing by the photons emitted).
+    pub power: Rgb,
+    /// Segments from the light to `p` (1: straight from the light).
+    pub segments: u16,
+    /// Every scattering before `p` was perfectly specular, and there was one (a caustic
+    /// photon: L S+ D).
+    pub caustic: bool,
+}
+
+/// The settings of the photon-mapping integrators.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PhotonOptions {
+    /// `sppm`: photons emitted per pass (0: one per pixel). `photon`: photons kept in the
+    /// global map.
+    pub photons: u64,
+    /// `photon`: photons kept in the caustic map.
+    pub caustic_photons: u64,
+    /// `sppm`: the initial gather radius; `photon`: the largest lookup radius of the global
+    /// map (a quarter of it for the caustic map). Scene units; 0 chooses (`sppm`: two
+    /// pixel footprints at the visible point; `photon`: 5% of the scene's bounding
+    /// sphere's diameter).
+    pub radius: f32,
+    /// `sppm`: the share of a pass's photons a pixel keeps as its radius shrinks
+    /// (Hachisuka and Jensen's α).
+    pub alpha: f32,
+    /// `photon`: photons per density estimate (k nearest).
+    pub lookup: u32,
+    /// `photon`: final-gathering rays per camera sample.
+    pub gather: u32,
+}
+
+impl Default for PhotonOptions {
+    fn default() -> Self {
+        PhotonOptions {
+            photons: 0,
+            caustic_photons: 100_000,
+            radius: 0.0,
+            alpha: 2.0 / 3.0,
+            lookup: 100,
+            gather: 4,
+        }
+    }
+}
+
+impl PhotonOptions {
+    /// What is wrong with these settings, if anything.
+    pub fn check(&self) -> Result<(), String> {
+        if !(self.alpha > 0.0 && self.alpha <= 1.0) {
+            return Err(format!("the photon alpha must be in (0, 1], found {}", self.alpha));
+        }
+        if !(self.radius >= 0.0 && self.radius.is_finite()) {
+            return Err(format!("the photon radius must be 0 (automatic) or positive, found {}", self.radius));
+        }
+        if self.lookup == 0 {
+            return Err("the photon lookup size must be at least 1".into());
+        }
+        Ok(())
+    }
+}
+
+/// Photons traced at once: their paths run in parallel, and the photons they leave are
+/// concatenated in emission order.
+const CHUNK: u64 = 1024;
+
+/// The photons of emissions `range` (each photon's random numbers its own stream of
+/// `seed`), traced up to `max_segments` segments, that `keep` accepts, in emission order.
+pub fn trace_photons(
+    scene: &Scene,
+    options: &IntegratorOptions,
+    (seed, range): (u64, std::ops::Range<u64>),
+    max_segments: usize,
+    keep: &(dyn Fn(&Photon) -> bool + Sync),
+    counts: &mut RayCounts,
+) -> Vec<Photon> {
+    let chunks = (range.end - range.start).div_ceil(CHUNK);
+    let traced: Vec<(Vec<Photon>, RayCounts)> = (0..chunks)
+        .into_par_iter()
+        .map(|c| {
+            let (mut out, mut rays) = (Vec::new(), RayCounts::default());
+            let first = range.start + c * CHUNK;
+            for index in first..(first + CHUNK).min(range.end) {
+                let mut rng = Pcg32::new(seed, index);
+                trace_photon(scene, options, max_segments, &mut rng, keep, &mut out, &mut rays);
+            }
+            (out, rays)
+        })
+        .collect();
+    let mut photons = Vec::with_capacity(traced.iter().map(|t| t.0.len()).sum());
+    for (p, r) in traced {
+        photons.extend(p);
+        counts.add(&r);
+    }
+    photons
+}
+
+/// One photon: a light picked by power, an emitted ray, then a random walk scattering
+/// importance by the BSDFs (with the shading-normal correction, Veach 1997 eq. 5.19) and
+/// Russian roulette from `rr_depth` on.
+fn trace_photon(
+    scene: &Scene,
+    options: &IntegratorOptions,
+    max_segments: usize,
+    rng: &mut Pcg32,
+    keep: &(dyn Fn(&Photon) -> bool + Sync),
+    out: &mut Vec<Photon>,
+    counts: &mut RayCounts,
+) {
+    let u2 = |rng: &mut Pcg32| Vec2::new(rng.next_f32(), rng.next_f32());
+    let Some((index, pick)) = scene.lights.pick(LightSelection::Power, rng.next_f32()) else {
+        return;
+    };
+    let (u_pos, u_dir) = (u2(rng), u2(rng));
+    let Some(e) = scene.lights.lights()[index as usize].sample_le(u_pos, u_dir, scene.sphere) else {
+        return;
+    };
+    let cos = if e.normal == Vec3::ZERO {
+        1.0
+    } else {
+        e.normal.dot(e.ray.dir).abs()
+    };
+    let mut beta = e.le * (cos / (pick * e.pdf_pos * e.pdf_dir));
+    if !beta.is_finite() || beta.is_black() {
+        return;
+    }
+    let start = beta.max_component();
+    let mut ray = e.ray;
+    let mut specular_only = true;
+    for segments in 1..=max_segments {
+        counts.secondary += 1;
+        let Some(it) = scene.intersect(&ray, f32::INFINITY) else {
+            return;
+        };
+        let bsdf = it.material.bsdf(it.surface.uv);
+        let photon = Photon {
+            p: it.surface.p,
+            wi: it.wo,
+            power: beta,
+            segments: segments.min(u16::MAX as usize) as u16,
+            caustic: specular_only && segments >= 2,
+        };
+        if bsdf.has_smooth() && keep(&photon) {
+            out.push(photon);
+        }
+        if segments == max_segments {
+            return;
+        }
+        let frame = it.material.shading_frame(&it.surface);
+        let ng = it.surface.ng;
+        let Some(bs) = bsdf.sample(frame.to_local(it.wo), rng.next_f32(), u2(rng), TransportMode::Importance) else {
+            return;
+        };
+        let wi = frame.to_world(bs.wi);
+        if ng.dot(it.wo) * frame.n.dot(it.wo) <= 0.0 || ng.dot(wi) * frame.n.dot(wi) <= 0.0 {
+            return;
+        }
+        beta = beta * bs.weight * shading_correction(ng, frame.n, it.wo, wi);
+        specular_only &= bs.delta;
+        if segments as u32 >= options.rr_depth {
+            let q = (beta.max_component() / start).min(0.95);
+            if !(rng.next_f32() < q) {
+                return;
+            }
+            beta = beta * (1.0 / q);
+        }
+        if !beta.is_finite() || beta.is_black() {
+            return;
+        }
+        ray = Ray::spawn(it.surface.p, ng, wi);
+    }
+}
+
+/// |wo·ns| |wi·ng| / (|wo·ng| |wi·ns|): what makes scattering importance at a shading
+/// normal symmetric (Veach 1997, eq. 5.19).
+fn shading_correction(ng: Vec3, ns: Vec3, wo: Vec3, wi: Vec3) -> f32 {
+    let den = wo.dot(ng).abs() * wi.dot(ns).abs();
+    if den == 0.0 {
+        return 0.0;
+    }
+    wo.dot(ns).abs() * wi.dot(ng).abs() / den
+}
+
+/// Where a camera path stops for a density estimate: the surface, its BSDF towards the
+/// viewer, and the path's weight and length.
+#[derive(Clone, Copy, Debug)]
+pub struct VisiblePoint<'a> {
+    pub p: Vec3,
+    /// The geometric normal on the viewer's side.
+    pub ng: Vec3,
+    pub frame: Frame,
+    /// Towards the viewer, in the shading frame.
+    pub wo: Vec3,
+    pub bsdf: Bsdf<'a>,
+    /// The path's throughput, divided by the probability of stopping here.
+    pub beta: Rgb,
+    /// Segments from the camera.
+    pub segments: usize,
+    /// The path's length from the camera (for a footprint).
+    pub distance: f32,
+}
+
+impl VisiblePoint<'_> {
+    /// What `photon` adds to the radiance leaving towards the viewer, before dividing by
+    /// the disc's area and the photons emitted: f(wo, wi) Φ |cos θ_s| / |cos θ_g| (the
+    /// flux arrives per unit of geometric area; the BSDF is cosine-weighted by the shading
+    /// normal). The path's weight `beta` is not applied.
+    pub fn photon_value(&self, photon: &Photon) -> Rgb {
+        let l = self.frame.to_local(photon.wi);
+        let cos_g = photon.wi.dot(self.ng);
+        // The geometric and shading normals must agree on the side (else light leaks).
+        if (cos_g > 0.0) != (l.z * self.wo.z > 0.0) || cos_g == 0.0 || l.z == 0.0 {
+            return Rgb::BLACK;
+        }
+        self.bsdf.eval(self.wo, l, TransportMode::Radiance) * photon.power * (l.z.abs() / cos_g.abs())
+    }
+}
+
+/// What a camera walk found: radiance picked up on the way (emitters and the background
+/// seen through delta bounces, direct lighting at smooth surfaces), and where it stopped.
+pub struct Walk<'a> {
+    pub radiance: Rgb,
+    pub point: Option<VisiblePoint<'a>>,
+}
+
+/// Follows `ray` (after `segments` segments, with throughput `beta`) through delta bounces
+/// to the first surface with a smooth part it stops at. With `lights`, adds the emitters
+/// and the background it meets and the direct lighting at each smooth surface (one light
+/// sample and one BSDF sample, weighted by the power heuristic, as `path` does); without,
+/// only finds the point (a final-gathering ray, whose light the photons bring).
+#[allow(clippy::too_many_arguments)]
+pub fn walk<'a>(
+    scene: &'a Scene,
+    mut ray: Ray,
+    mut beta: Rgb,
+    mut segments: usize,
+    options: &IntegratorOptions,
+    lights: bool,
+    sampler: &mut impl Draws,
+    counts: &mut RayCounts,
+) -> Walk<'a> {
+    let max = options.max_depth as usize;
+    let mut out = Walk {
+        radiance: Rgb::BLACK,
+        point: None,
+    };
+    let mut distance = 0.0;
+    let mut eta_scale = 1.0;
+    while segments < max {
+        segments += 1;
+        let Some(it) = scene.intersect(&ray, f32::INFINITY) else {
+            if lights {
+                out.radiance += beta * scene.escaped(ray.dir);
+            }
+            return out;
+        };
+        distance += it.surface.p.distance(ray.origin);
+        if lights {
+            out.radiance += beta * scene.emitted(&it);
+        }
+        let sh = Shading::new(&it);
+        let bsdf = it.material.bsdf(it.surface.uv);
+        let smooth = bsdf.has_smooth();
+        if smooth && lights && segments < max {
+            out.radiance += beta * direct(scene, &sh, sampler, counts);
+        }
+        let rays = bsdf.specular_rays(sh.wo, TransportMode::Radiance);
+        let rays = rays.as_slice();
+        let delta: f32 = rays.iter().map(|r| r.weight.luminance().max(0.0)).sum();
+        let p_smooth = match (smooth, delta > 0.0) {
+            (false, _) => 0.0,
+            (true, false) => 1.0,
+            (true, true) => {
+                let a = bsdf.albedo().luminance().max(0.05 * delta);
+                a / (a + delta)
+            }
+        };
+        let u = sampler.next_1d();
+        if u < p_smooth {
+            // Photons must come at least one segment after this one.
+            if segments < max {
+                out.point = Some(VisiblePoint {
+                    p: it.surface.p,
+                    ng: sh.ng,
+                    frame: sh.frame,
+                    wo: sh.wo,
+                    bsdf,
+                    beta: beta * (1.0 / p_smooth),
+                    segments,
+                    distance,
+                });
+            }
+            return out;
+        }
+        if delta <= 0.0 {
+            return out;
+        }
+        // One delta direction, in proportion to its weight's luminance.
+        let mut x = (u - p_smooth) / (1.0 - p_smooth) * delta;
+        let mut chosen = rays[rays.len() - 1];
+        for r in rays {
+            let l = r.weight.luminance().max(0.0);
+            if x < l {
+                chosen = *r;
+                break;
+            }
+            x -= l;
+        }
+        let q = chosen.weight.luminance().max(0.0) / delta;
+        if q <= 0.0 {
+            return out;
+        }
+        let wi = sh.frame.to_world(chosen.wi);
+        if !sh.agrees(wi, chosen.wi) {
+            return out;
+        }
+        beta = beta * chosen.weight * (1.0 / (q * (1.0 - p_smooth)));
+        if chosen.wi.z * sh.wo.z < 0.0 {
+            eta_scale *= bsdf_eta_squared(sh.wo, chosen.wi);
+        }
+        // Russian roulette, as the path tracer plays it.
+        if segments as u32 >= options.rr_depth {
+            let survive = (beta.max_component() * eta_scale).min(0.95);
+            if !(sampler.next_1d() < survive) {
+                return out;
+            }
+            beta = beta * (1.0 / survive);
+        }
+        counts.secondary += 1;
+        ray = Ray::new(sh.origin_towards(wi), wi);
+    }
+    out
+}
+
+/// η² of a refraction from `wo` to `wi` (shading frame), from Snell's law: the factor by
+/// which radiance was scaled, undone for roulette.
+fn bsdf_eta_squared(wo: Vec3, wi: Vec3) -> f32 {
+    let (sin_o, sin_i) = ((1.0 - wo.z * wo.z).max(0.0).sqrt(), (1.0 - wi.z * wi.z).max(0.0).sqrt());
+    if sin_i > 0.0 && sin_o > 0.0 {
+        let eta = sin_o / sin_i;
+        eta * eta
+    } else {
+        1.0
+    }
+}
+
+/// Direct lighting at `sh`: a light picked by power and sampled by solid angle, and a
+/// BSDF sample that may reach an emitter, weighted by the power heuristic (Veach and
+/// Guibas 1995).
+pub fn direct(scene: &Scene, sh: &Shading, sampler: &mut impl Draws, counts: &mut RayCounts) -> Rgb {
+    let (selection, heuristic) = (LightSelection::Power, MisHeuristic::Power);
+    let strategy = LightStrategy {
+        sampling: AreaSampling::Adaptive,
+        samples: 1.0,
+        mis: Some((heuristic, 1.0)),
+    };
+    let mut radiance = Rgb::BLACK;
+    let (u_pick, u_light) = (sampler.next_1d(), sampler.next_2d());
+    if let Some((index, p_pick)) = scene.lights.pick(selection, u_pick) {
+        if let Some(test) = nee::light_sample(scene, sh, index, p_pick, u_light, &strategy) {
+            radiance += test.trace(scene, counts);
+        }
+    }
+    let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
+    let Some(bs) = sh.bsdf.sample(sh.wo, u_lobe, u, TransportMode::Radiance).filter(|s| !s.delta) else {
+        return radiance;
+    };
+    let wi = sh.frame.to_world(bs.wi);
+    if !sh.agrees(wi, bs.wi) {
+        return radiance;
+    }
+    let ray = Ray::new(sh.origin_towards(wi), wi);
+    counts.secondary += 1;
+    let mis = (selection, heuristic);
+    let le = match scene.intersect(&ray, f32::INFINITY) {
+        None => match scene.environment() {
+            Some(env) => env.1.le(wi) * nee::environment_weight(scene, mis, env, wi, (1.0, bs.pdf), 1.0),
+            None => scene.background,
+        },
+        Some(it) => match scene.emitter_at(&it) {
+            Some((index, light)) => {
+                let normal = light.emitter.normal_at(it.surface.p);
+                let le = light.le(it.surface.p, normal, it.wo);
+                let weight = nee::emitter_weight(
+                    scene,
+                    (selection, strategy.sampling),
+                    heuristic,
+                    ray.origin,
+                    (index, light),
+                    it.surface.p,
+                    normal,
+                    (1.0, bs.pdf),
+                    1.0,
+                );
+                le * weight
+            }
+            None => Rgb::BLACK,
+        },
+    };
+    radiance + bs.weight * le
+}
