@@ -1,6 +1,7 @@
-//! The light-transport integrators (`path`, `bdpt`, `mlt`) converge to the same image: the Cornell box (in the
-//! repository), the Veach MIS scene and the Veach bidirectional room (from ../shared,
-//! skipped with a note when it is absent).
+//! The light-transport integrators (`path`, `bdpt`, `mlt`, `sppm`) converge to the same
+//! image: the Cornell box (in the repository), the Veach MIS scene and the Veach
+//! bidirectional room (from ../shared, skipped with a note when it is absent), and a scene
+//! under an environment map.
 //!
 //! The threshold comes from the measured noise. Each integrator renders the scene twice
 //! with different seeds. For independent unbiased renders X and Y of the same image, the
@@ -12,6 +13,10 @@
 //! these scenes as rare, very bright pixels that would make any relative MSE a lottery,
 //! so the errors are trimmed: the worst 0.5% of pixels are left out of every figure alike
 //! (a bias over more than that still shows).
+//!
+//! `sppm` is consistent, not unbiased: at a finite radius it blurs the indirect light over
+//! its gather discs. The passes are chosen so that this bias stays below the noise the
+//! test allows (it shrinks with the radius, as passes add up).
 
 use penumbra::math::Rgb;
 use penumbra::metrics::compare;
@@ -103,13 +108,14 @@ fn integrators_agree_on_the_cornell_box() {
             (IntegratorKind::Path, 256),
             (IntegratorKind::Bdpt, 64),
             (IntegratorKind::Mlt, 1024),
+            (IntegratorKind::Sppm, 256),
         ],
     );
 }
 
 /// [`agree`] on a scene of ../shared (skipped with a note when it is absent), with
-/// `path`, `bdpt` and `mlt` at the given samples (mutations) per pixel.
-fn agree_on_shared(name: &str, relative: &str, size: (u32, u32), [path, bdpt, mlt]: [u32; 3]) {
+/// `path`, `bdpt`, `mlt` and `sppm` at the given samples (mutations, passes) per pixel.
+fn agree_on_shared(name: &str, relative: &str, size: (u32, u32), [path, bdpt, mlt, sppm]: [u32; 4]) {
     let Some(file) = shared_scene(relative) else {
         return;
     };
@@ -118,13 +124,14 @@ fn agree_on_shared(name: &str, relative: &str, size: (u32, u32), [path, bdpt, ml
         (IntegratorKind::Path, path),
         (IntegratorKind::Bdpt, bdpt),
         (IntegratorKind::Mlt, mlt),
+        (IntegratorKind::Sppm, sppm),
     ];
     agree(name, desc, size, &runs);
 }
 
 #[test]
 fn integrators_agree_on_the_veach_mis_scene() {
-    agree_on_shared("Veach MIS", "pbrt-veach-mis/scene-v4.pbrt", (128, 72), [256, 64, 256]);
+    agree_on_shared("Veach MIS", "pbrt-veach-mis/scene-v4.pbrt", (128, 72), [256, 64, 256, 256]);
 }
 
 #[test]
@@ -133,7 +140,7 @@ fn integrators_agree_on_the_veach_bidirectional_room() {
         "Veach bidir",
         "pbrt-veach-bidir/scene-v4.pbrt",
         (64, 64),
-        [512, 64, 512],
+        [512, 64, 512, 512],
     );
 }
 
@@ -181,6 +188,7 @@ fn integrators_agree_under_an_environment_map() {
             (IntegratorKind::Path, 256),
             (IntegratorKind::Bdpt, 128),
             (IntegratorKind::Mlt, 512),
+            (IntegratorKind::Sppm, 256),
         ],
     );
 }

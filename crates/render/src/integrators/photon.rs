@@ -132,7 +132,8 @@ impl PhotonMapper {
         let max_depth = self.options.max_depth as usize;
         let k = self.options.photon.lookup.max(1) as usize;
         let mut found = Vec::with_capacity(k + 1);
-        let keep = |ph: &Photon| ph.segments as usize + vp.segments <= max_depth;
+        let r_max = map.r2_max.sqrt();
+        let keep = |ph: &Photon| ph.segments as usize + vp.segments <= max_depth && vp.same_surface(ph, r_max);
         let r2 = map.map.nearest(vp.p, k + 1, map.r2_max, keep, &mut found);
         if found.len() == k + 1 {
             found.pop();

@@ -220,7 +220,7 @@ impl PassIntegrator for Sppm {
                     };
                     let mut sum = Rgb::BLACK;
                     map.within(vp.p, r * r, |ph| {
-                        if ph.segments as usize + vp.segments <= max_depth {
+                        if ph.segments as usize + vp.segments <= max_depth && vp.same_surface(ph, r) {
                             sum += vp.photon_value(ph);
                             *m += 1;
                         }

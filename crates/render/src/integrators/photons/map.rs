@@ -191,6 +191,7 @@ mod tests {
             .map(|i| Photon {
                 p: Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32() * 0.1),
                 wi: Vec3::Z,
+                n: Vec3::Z,
                 power: Rgb::new(i as f32, 0.0, 0.0),
                 segments: 1,
                 caustic: false,

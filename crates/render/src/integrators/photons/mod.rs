@@ -33,6 +33,8 @@ pub struct Photon {
     pub p: Vec3,
     /// Unit direction back towards where it came from.
     pub wi: Vec3,
+    /// The surface's geometric normal on the side the photon came from.
+    pub n: Vec3,
     /// Flux it carries (before dividing by the photons emitted).
     pub power: Rgb,
     /// Segments from the light to `p` (1: straight from the light).
@@ -166,9 +168,11 @@ fn trace_photon(
             return;
         };
         let bsdf = it.material.bsdf(it.surface.uv);
+        let ng = it.surface.ng;
         let photon = Photon {
             p: it.surface.p,
             wi: it.wo,
+            n: if ng.dot(it.wo) < 0.0 { -ng } else { ng },
             power: beta,
             segments: segments.min(u16::MAX as usize) as u16,
             caustic: specular_only && segments >= 2,
@@ -180,7 +184,6 @@ fn trace_photon(
             return;
         }
         let frame = it.material.shading_frame(&it.surface);
-        let ng = it.surface.ng;
         let Some(bs) = bsdf.sample(frame.to_local(it.wo), rng.next_f32(), u2(rng), TransportMode::Importance) else {
             return;
         };
@@ -233,7 +236,24 @@ pub struct VisiblePoint<'a> {
     pub distance: f32,
 }
 
+/// Photons whose surface normal leans further than this from a visible point's (cosine)
+/// are not its surface's: the other wall at a corner, the far side of a thin panel.
+const SAME_SURFACE_COS: f32 = 0.8;
+
+/// Photons further than this share of the radius off a visible point's tangent plane are
+/// not on its surface: a step or the top of a thin box near the point (Jensen 2001,
+/// section 7.2.2, the disc).
+const DISC_THICKNESS: f32 = 0.25;
+
 impl VisiblePoint<'_> {
+    /// Whether `photon` lies on this point's surface, as far as a disc of radius `r` can
+    /// tell: its normal close to the point's, and near the tangent plane. Both tests only
+    /// reject photons a shrinking radius would leave out anyway, so the estimate keeps its
+    /// limit; they remove most of the light that leaks around corners at finite radii.
+    pub fn same_surface(&self, photon: &Photon, r: f32) -> bool {
+        photon.n.dot(self.ng) >= SAME_SURFACE_COS && (photon.p - self.p).dot(self.ng).abs() <= DISC_THICKNESS * r
+    }
+
     /// What `photon` adds to the radiance leaving towards the viewer, before dividing by
     /// the disc's area and the photons emitted: f(wo, wi) Φ |cos θ_s| / |cos θ_g| (the
     /// flux arrives per unit of geometric area; the BSDF is cosine-weighted by the shading
