@@ -5,7 +5,7 @@
 # by relative MSE against the reference; small PNGs of the equal-time renders go to
 # docs/images/light-transport/.
 #   bash docs/light-transport.sh [seconds per render, default 10]
-#   INTEGRATORS="mlt" bash docs/light-transport.sh 10     (only those; default: path bdpt mlt)
+#   INTEGRATORS="mlt" bash docs/light-transport.sh 10     (only those; default: path bdpt mlt sppm photon)
 # (from the repository, after cargo build --release; ../shared beside it)
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -34,7 +34,7 @@ compare() { # name scene res ref-integrator ref-spp integrators...
 }
 echo "| scene | integrator | spp in ${SECS} s | relMSE vs reference |"
 echo "|---|---|---|---|"
-read -r -a RUN <<< "${INTEGRATORS:-path bdpt mlt}"
+read -r -a RUN <<< "${INTEGRATORS:-path bdpt mlt sppm photon}"
 compare veach-bidir "$S/pbrt-veach-bidir/scene-v4.pbrt" 128x128 bdpt 2048 "${RUN[@]}"
 compare caustic-glass "$S/pbrt-caustic-glass/caustic-glass-v4.pbrt" 140x200 bdpt 2048 "${RUN[@]}"
 compare gap-room "$ROOT/scenes/gap-room.toml" 128x96 bdpt 2048 "${RUN[@]}"

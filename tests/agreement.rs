@@ -131,7 +131,12 @@ fn agree_on_shared(name: &str, relative: &str, size: (u32, u32), [path, bdpt, ml
 
 #[test]
 fn integrators_agree_on_the_veach_mis_scene() {
-    agree_on_shared("Veach MIS", "pbrt-veach-mis/scene-v4.pbrt", (128, 72), [256, 64, 256, 256]);
+    agree_on_shared(
+        "Veach MIS",
+        "pbrt-veach-mis/scene-v4.pbrt",
+        (128, 72),
+        [256, 64, 256, 256],
+    );
 }
 
 #[test]

@@ -53,7 +53,9 @@ fn photon_mappers_sum_the_furnace_series() {
             scene.render.photon.lookup = 50;
             let (mean, se) = mean_and_se(&scene, integrator, 4, 6);
             let expected = (1.0 - albedo.powi(max_depth as i32)) / (1.0 - albedo);
-            println!("{integrator:?}: albedo {albedo}, max_depth {max_depth}: {mean:.5} ± {se:.5} (expected {expected:.5})");
+            println!(
+                "{integrator:?}: albedo {albedo}, max_depth {max_depth}: {mean:.5} ± {se:.5} (expected {expected:.5})"
+            );
             assert!(
                 (mean - expected).abs() < 4.0 * se + 1e-5 && (mean - expected).abs() < 0.015 * expected,
                 "{integrator:?}: albedo {albedo}, max_depth {max_depth}: {mean} ± {se}, expected {expected}"

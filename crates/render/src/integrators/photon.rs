@@ -53,7 +53,7 @@ pub const GLOBAL_PHOTONS: u64 = 200_000;
 /// A map stops filling when, at the rate it has filled so far, it would take more than
 /// this many emissions per photon wanted (a scene with no caustic paths never fills its
 /// caustic map).
-const EMISSION_CAP: u64 = 16;
+const EMISSION_CAP: u64 = 64;
 
 impl PhotonMapper {
     pub fn new(options: IntegratorOptions) -> Self {
@@ -75,7 +75,7 @@ impl PhotonMapper {
         // A photon of the global map is found by a gathering ray (at least two camera
         // segments before it), one of the caustic map at the camera path's end (one).
         let keep_global = |ph: &Photon| ph.segments as usize + 2 <= max_depth;
-        let keep_caustic = |ph: &Photon| ph.caustic && ph.segments as usize + 1 <= max_depth;
+        let keep_caustic = |ph: &Photon| ph.caustic && (ph.segments as usize) < max_depth;
         let mut kept: [Vec<Photon>; 2] = [Vec::new(), Vec::new()];
         let mut emitted = [0u64; 2];
         let mut total = 0u64;
@@ -96,7 +96,10 @@ impl PhotonMapper {
                 counts,
             );
             total += BATCH;
-            for (m, keep) in [&keep_global as &dyn Fn(&Photon) -> bool, &keep_caustic].iter().enumerate() {
+            for (m, keep) in [&keep_global as &dyn Fn(&Photon) -> bool, &keep_caustic]
+                .iter()
+                .enumerate()
+            {
                 if filling(&kept, m, total - BATCH) {
                     kept[m].extend(photons.iter().filter(|ph| keep(ph)));
                     emitted[m] = total;

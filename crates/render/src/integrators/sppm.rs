@@ -52,9 +52,9 @@ struct PixelState {
     r: f32,
 }
 
-/// Photon paths per batch of a pass, at most: photons kept per batch stay under
-/// [`BATCH_PHOTONS`] whatever the path length.
-const BATCH_PHOTONS: u64 = 1 << 22;
+/// Photons kept per batch of a pass, at most: a batch traces this many photon paths over
+/// the longest path's segments (so memory stays bounded whatever `max_depth` is).
+const BATCH_PHOTONS: u64 = 1 << 21;
 
 impl Sppm {
     pub fn new(options: IntegratorOptions) -> Self {
@@ -177,7 +177,10 @@ impl PassIntegrator for Sppm {
         let options = &self.options.photon;
         for (p, (radiance, vp, footprint)) in state.pixels.iter_mut().zip(&camera) {
             if radiance.is_finite() {
-                p.direct.iter_mut().zip(radiance.to_array()).for_each(|(s, v)| *s += v as f64);
+                p.direct
+                    .iter_mut()
+                    .zip(radiance.to_array())
+                    .for_each(|(s, v)| *s += v as f64);
             }
             if vp.is_some() && p.r == 0.0 {
                 p.r = if options.radius > 0.0 {
@@ -250,10 +253,10 @@ impl PassIntegrator for Sppm {
                 p.n = n;
             }
             let area = std::f64::consts::PI * (p.r as f64).powi(2);
-            for c in 0..3 {
-                let indirect = if area > 0.0 { p.tau[c] / (area * emitted) } else { 0.0 };
+            for ((o, direct), tau) in out.iter_mut().zip(p.direct).zip(p.tau) {
+                let indirect = if area > 0.0 { tau / (area * emitted) } else { 0.0 };
                 // The film divides its splats by the passes done.
-                out[c] = (p.direct[c] / passes + indirect) * passes;
+                *o = (direct / passes + indirect) * passes;
             }
         }
         film.splat_scale = 1.0;

@@ -39,24 +39,21 @@ impl PhotonMap {
 
     /// Calls `visit` with every photon within squared distance `r2` of `p`.
     pub fn within(&self, p: Vec3, r2: f32, mut visit: impl FnMut(&Photon)) {
-        self.search(p, || r2, |_, ph, d2| {
-            if d2 <= r2 {
-                visit(ph);
-            }
-        });
+        self.search(
+            p,
+            || r2,
+            |_, ph, d2| {
+                if d2 <= r2 {
+                    visit(ph);
+                }
+            },
+        );
     }
 
     /// The `k` photons nearest to `p` among those `keep` accepts and within squared
     /// distance `r2_max`, into `out` (nearest first), and the squared radius of the disc that
     /// holds them: the k-th distance, or `r2_max` when fewer were found.
-    pub fn nearest(
-        &self,
-        p: Vec3,
-        k: usize,
-        r2_max: f32,
-        keep: impl Fn(&Photon) -> bool,
-        out: &mut Vec<u32>,
-    ) -> f32 {
+    pub fn nearest(&self, p: Vec3, k: usize, r2_max: f32, keep: impl Fn(&Photon) -> bool, out: &mut Vec<u32>) -> f32 {
         let mut heap: BinaryHeap<Near> = BinaryHeap::with_capacity(k + 1);
         let bound = std::cell::Cell::new(r2_max);
         self.search(
@@ -157,7 +154,9 @@ fn build(photons: &mut [Photon], axes: &mut [u8]) {
     }
     let (lo, hi) = photons
         .iter()
-        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), ph| (lo.min(ph.p), hi.max(ph.p)));
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), ph| {
+            (lo.min(ph.p), hi.max(ph.p))
+        });
     let extent = hi - lo;
     let axis = if extent.x >= extent.y && extent.x >= extent.z {
         0
@@ -222,7 +221,7 @@ mod tests {
 
             let k = 1 + (rng.next_f32() * 40.0) as usize;
             let r2_max = 0.02;
-            let keep = |ph: &Photon| (ph.power.r as u32) % 3 != 0;
+            let keep = |ph: &Photon| !(ph.power.r as u32).is_multiple_of(3);
             let got_r2 = map.nearest(p, k, r2_max, keep, &mut out);
             let mut got: Vec<u32> = out.iter().map(|&i| map.photon(i).power.r as u32).collect();
             got.sort();
@@ -233,7 +232,11 @@ mod tests {
                 .collect();
             by_distance.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
             by_distance.truncate(k);
-            let expected_r2 = if by_distance.len() == k { by_distance[k - 1].0 } else { r2_max };
+            let expected_r2 = if by_distance.len() == k {
+                by_distance[k - 1].0
+            } else {
+                r2_max
+            };
             let mut expected: Vec<u32> = by_distance.iter().map(|x| x.1).collect();
             expected.sort();
             assert_eq!(got, expected);

@@ -86,7 +86,10 @@ impl PhotonOptions {
             return Err(format!("the photon alpha must be in (0, 1], found {}", self.alpha));
         }
         if !(self.radius >= 0.0 && self.radius.is_finite()) {
-            return Err(format!("the photon radius must be 0 (automatic) or positive, found {}", self.radius));
+            return Err(format!(
+                "the photon radius must be 0 (automatic) or positive, found {}",
+                self.radius
+            ));
         }
         if self.lookup == 0 {
             return Err("the photon lookup size must be at least 1".into());
@@ -184,7 +187,12 @@ fn trace_photon(
             return;
         }
         let frame = it.material.shading_frame(&it.surface);
-        let Some(bs) = bsdf.sample(frame.to_local(it.wo), rng.next_f32(), u2(rng), TransportMode::Importance) else {
+        let Some(bs) = bsdf.sample(
+            frame.to_local(it.wo),
+            rng.next_f32(),
+            u2(rng),
+            TransportMode::Importance,
+        ) else {
             return;
         };
         let wi = frame.to_world(bs.wi);
@@ -195,7 +203,7 @@ fn trace_photon(
         specular_only &= bs.delta;
         if segments as u32 >= options.rr_depth {
             let q = (beta.max_component() / start).min(0.95);
-            if !(rng.next_f32() < q) {
+            if rng.next_f32() >= q || q.is_nan() {
                 return;
             }
             beta = beta * (1.0 / q);
@@ -374,7 +382,7 @@ pub fn walk<'a>(
         // Russian roulette, as the path tracer plays it.
         if segments as u32 >= options.rr_depth {
             let survive = (beta.max_component() * eta_scale).min(0.95);
-            if !(sampler.next_1d() < survive) {
+            if sampler.next_1d() >= survive || survive.is_nan() {
                 return out;
             }
             beta = beta * (1.0 / survive);
@@ -415,7 +423,11 @@ pub fn direct(scene: &Scene, sh: &Shading, sampler: &mut impl Draws, counts: &mu
         }
     }
     let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
-    let Some(bs) = sh.bsdf.sample(sh.wo, u_lobe, u, TransportMode::Radiance).filter(|s| !s.delta) else {
+    let Some(bs) = sh
+        .bsdf
+        .sample(sh.wo, u_lobe, u, TransportMode::Radiance)
+        .filter(|s| !s.delta)
+    else {
         return radiance;
     };
     let wi = sh.frame.to_world(bs.wi);

@@ -133,7 +133,10 @@ pub fn integrator(r: &mut Reader, at: At) -> Result<()> {
         let o = penumbra_render::integrators::PhotonOptions {
             photons: count("photonCount", 0)?.max(count("globalPhotons", 0)?),
             caustic_photons: count("causticPhotons", 100_000)?,
-            radius: p.float(r, "initialRadius")?.filter(|x| *x > 0.0 && x.is_finite()).unwrap_or(0.0),
+            radius: p
+                .float(r, "initialRadius")?
+                .filter(|x| *x > 0.0 && x.is_finite())
+                .unwrap_or(0.0),
             alpha: p.float(r, "alpha")?.map_or(2.0 / 3.0, |a| a.clamp(0.01, 1.0)),
             lookup: count("lookupSize", 100)?.clamp(1, 100_000) as u32,
             ..r.desc.render.photon

@@ -199,7 +199,11 @@ pub fn setting(r: &mut Reader, directive: &str, kind: &str, p: &Params, here: Lo
                     // pbrt's default radius (1 scene unit) suits few scenes: ours is
                     // from the pixel footprint unless the file gives one.
                     let radius = p.float("radius", 0.0)?;
-                    o.radius = if radius > 0.0 && radius.is_finite() { radius } else { 0.0 };
+                    o.radius = if radius > 0.0 && radius.is_finite() {
+                        radius
+                    } else {
+                        0.0
+                    };
                     let iterations = p.int("iterations", 0)?.max(p.int("numiterations", 0)?);
                     if iterations > 0 {
                         r.desc.render.spp = iterations.min(u32::MAX as i64) as u32;
