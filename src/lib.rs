@@ -25,7 +25,7 @@ pub use penumbra_geometry as geometry;
 pub use penumbra_render as renderer;
 pub use penumbra_scene as scene;
 
-use penumbra_render::integrators::IntegratorOptions;
+use penumbra_render::integrators::{Integrator, IntegratorOptions};
 use penumbra_render::{Film, Progress, RenderOptions, RenderResult};
 use penumbra_scene::{build_scene, SceneDesc, SceneError, SourceFile};
 use std::sync::atomic::AtomicBool;
@@ -77,18 +77,37 @@ impl Default for RenderControl<'_> {
 /// Builds `desc` and renders it with the integrator and settings it names, in the current
 /// rayon thread pool.
 pub fn render(desc: &SceneDesc, control: RenderControl) -> Result<RenderResult, SceneError> {
-    let scene = build_scene(desc)?;
+    let integrator = integrator(desc, control.debug_strategies);
+    render_with(desc, integrator.as_ref(), control)
+}
+
+/// The integrator `desc` names, with its settings (`debug_strategies`: `bdpt` keeps each
+/// strategy's image).
+pub fn integrator(desc: &SceneDesc, debug_strategies: bool) -> Box<dyn Integrator> {
     let r = &desc.render;
-    let integrator = r.integrator.create(IntegratorOptions {
+    r.integrator.create(IntegratorOptions {
         max_depth: r.max_depth,
         min_weight: r.min_weight,
         rr_depth: r.rr_depth,
         direct: r.direct,
-        debug_strategies: control.debug_strategies,
+        debug_strategies,
         mlt: r.mlt,
         photon: r.photon,
+        env: r.env,
         seed: r.seed,
-    });
+    })
+}
+
+/// Builds `desc` and renders it with `integrator` (made by [`integrator`] for this or an
+/// earlier frame of the same animation: integrators that carry samples from frame to frame
+/// keep them in it), in the current rayon thread pool.
+pub fn render_with(
+    desc: &SceneDesc,
+    integrator: &dyn Integrator,
+    control: RenderControl,
+) -> Result<RenderResult, SceneError> {
+    let scene = build_scene(desc)?;
+    let r = &desc.render;
     let options = RenderOptions {
         spp: r.spp,
         seed: r.seed,
@@ -124,7 +143,7 @@ pub fn render(desc: &SceneDesc, control: RenderControl) -> Result<RenderResult, 
     };
     Ok(penumbra_render::render(
         &scene,
-        integrator.as_ref(),
+        integrator,
         &options,
         film,
         control.progress,

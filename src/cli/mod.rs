@@ -3,6 +3,7 @@
 mod bench;
 mod bench_render;
 mod diff;
+mod frames;
 mod progress;
 mod render;
 
@@ -172,6 +173,25 @@ pub struct RenderArgs {
     /// `photon`: final-gathering rays per camera sample [default: 4].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub gather_rays: Option<u32>,
+    /// Render frames A..B (B not included; A..=B includes it) of an animation (an
+    /// environment with `spin`), one numbered image per frame: OUTPUT_0000.exr, ...;
+    /// --time is then per frame.
+    #[arg(long, value_parser = frames::parse_frames, value_name = "A..B")]
+    pub frames: Option<(u32, u32)>,
+    /// `env`: how the environment's light is sampled: mis, light (the map), bsdf, sir
+    /// (resampled toward their product) or smc (particles carried across --frames)
+    /// [default: mis].
+    #[arg(long)]
+    pub env_sampling: Option<String>,
+    /// `env`: shadow rays per pixel sample (N) [default: 4].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub env_samples: Option<u32>,
+    /// `env` with sir or smc: candidates per pixel sample (M) [default: 32].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=65536))]
+    pub env_candidates: Option<u32>,
+    /// `env` with smc: Metropolis moves per particle per frame [default: 2].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=1024))]
+    pub smc_moves: Option<u32>,
 }
 
 fn parse_positive(s: &str) -> Result<f32, String> {

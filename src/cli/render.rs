@@ -6,7 +6,7 @@ use penumbra::geometry::AccelKind;
 use penumbra::math::SamplerKind;
 use penumbra::renderer::driver::Stop;
 use penumbra::renderer::film::AOV_NAMES;
-use penumbra::renderer::integrators::{IntegratorKind, LightSampling, MisHeuristic};
+use penumbra::renderer::integrators::{EnvSampling, IntegratorKind, LightSampling, MisHeuristic};
 use penumbra::renderer::lights::LightSelection;
 use penumbra::renderer::Film;
 use penumbra::scene::image_io::{write_exr_layers, write_image, Image, ImageFormat};
@@ -93,6 +93,17 @@ fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) -> Result<(), Failur
     ph.lookup = args.photon_lookup.unwrap_or(ph.lookup);
     ph.gather = args.gather_rays.unwrap_or(ph.gather);
     ph.check().map_err(|e| bad(format!("--sppm-alpha/--photon-*: {e}")))?;
+    if let Some(s) = pick(
+        &args.env_sampling,
+        "env-sampling",
+        &EnvSampling::NAMES,
+        EnvSampling::from_name,
+    )? {
+        r.env.sampling = s;
+    }
+    r.env.samples = args.env_samples.unwrap_or(r.env.samples);
+    r.env.candidates = args.env_candidates.unwrap_or(r.env.candidates);
+    r.env.moves = args.smc_moves.unwrap_or(r.env.moves);
     if let Some((w, h)) = args.res {
         r.width = w;
         r.height = h;
@@ -300,6 +311,15 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
             ));
         }
     }
+    if matches!(desc.render.integrator, IntegratorKind::Sppm | IntegratorKind::Photon)
+        && desc.environment.is_none()
+        && !desc.background.is_black()
+    {
+        eprintln!(
+            "warning: the background colour is not a light: {} sends no photons from it, so it lights surfaces directly only (give an [environment] instead to light the scene with it)",
+            IntegratorKind::NAMES[desc.render.integrator as usize]
+        );
+    }
     for warning in &desc.warnings {
         eprintln!("warning: {warning}");
     }
@@ -354,6 +374,35 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
         });
     }
 
+    if let Some(frames) = args.frames {
+        for (given, what) in [
+            (args.resume, "--resume"),
+            (args.checkpoint.is_some(), "--checkpoint"),
+            (args.aovs, "--aovs"),
+            (args.debug_strategies, "--debug-strategies"),
+        ] {
+            if given {
+                return Err(bad(format!(
+                    "{what} is not supported with --frames (each frame is rendered afresh)"
+                )));
+            }
+        }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(args.threads.map_or(0, |t| t as usize))
+            .build()
+            .map_err(|e| Failure::Internal(format!("cannot start worker threads: {e}")))?;
+        let time = args.time.map(Duration::from_secs_f32);
+        return super::frames::run(
+            &desc,
+            frames,
+            &args.output,
+            args.exposure,
+            time,
+            args.quiet,
+            &pool,
+            &cancel,
+        );
+    }
     let r = &desc.render;
     let pixels = r.width as u64 * r.height as u64;
     let reporter = Reporter::new(pixels * r.spp.saturating_sub(done) as u64, args.quiet);
@@ -363,8 +412,8 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
         .build()
         .map_err(|e| Failure::Internal(format!("cannot start worker threads: {e}")))?;
     let planned = r.spp;
-    // (mlt's chains cannot be resumed: no state for it.)
-    let resumable = desc.render.integrator != IntegratorKind::Mlt;
+    // (mlt's chains and sppm's pixel statistics cannot be resumed: no state for them.)
+    let resumable = !matches!(desc.render.integrator, IntegratorKind::Mlt | IntegratorKind::Sppm);
     let keep_state = resumable && (args.checkpoint.is_some() || args.resume);
     // Checkpoints: the image and the state, every `--checkpoint` seconds.
     let last_checkpoint = Mutex::new(Instant::now());

@@ -51,6 +51,8 @@ pub struct RenderDesc {
     pub mlt: penumbra_render::integrators::MltOptions,
     /// Settings of the `sppm` and `photon` integrators.
     pub photon: penumbra_render::integrators::PhotonOptions,
+    /// Settings of the `env` integrator.
+    pub env: penumbra_render::integrators::EnvOptions,
 }
 
 impl Default for RenderDesc {
@@ -70,6 +72,7 @@ impl Default for RenderDesc {
             direct: DirectOptions::default(),
             mlt: Default::default(),
             photon: Default::default(),
+            env: Default::default(),
         }
     }
 }
@@ -233,6 +236,9 @@ pub struct EnvironmentDesc {
     pub scale: Rgb,
     /// Turns the map; a rotation.
     pub transform: Transform,
+    /// Degrees the map turns about the world's +y axis per animation frame
+    /// ([`SceneDesc::at_frame`]); 0 for a still map.
+    pub spin: f32,
     pub location: Option<Location>,
 }
 
@@ -246,6 +252,19 @@ pub enum EnvironmentSource {
 }
 
 impl SceneDesc {
+    /// The scene at animation frame `frame`: the environment turned by its `spin` times the
+    /// frame number about +y (after its own transform). Nothing else moves yet.
+    pub fn at_frame(&self, frame: u32) -> SceneDesc {
+        let mut d = self.clone();
+        if let Some(env) = d.environment.as_mut().filter(|e| e.spin != 0.0) {
+            let degrees = (env.spin as f64 * frame as f64).rem_euclid(360.0) as f32;
+            if let Some(turn) = Transform::rotate(glam::Vec3::Y, degrees) {
+                env.transform = env.transform.then(turn);
+            }
+        }
+        d
+    }
+
     /// An empty scene: default camera and settings, nothing in it.
     pub fn empty() -> Self {
         SceneDesc {

@@ -6,6 +6,7 @@
 mod bdpt;
 mod diffuse_lanes;
 mod direct;
+mod env;
 mod mlt;
 mod nee;
 mod path;
@@ -17,6 +18,7 @@ mod whitted;
 
 pub use bdpt::{strategy_layer, Bdpt};
 pub use direct::{Direct, DirectOptions, LightSampling, MisHeuristic};
+pub use env::{EnvDirect, EnvOptions, EnvSampling};
 pub use mlt::{Mlt, MltOptions};
 pub use path::{PathTracer, BATCH, RR_DEPTH};
 pub use photon::PhotonMapper;
@@ -132,6 +134,8 @@ pub struct IntegratorOptions {
     pub mlt: MltOptions,
     /// Settings of `sppm` and `photon`.
     pub photon: PhotonOptions,
+    /// Settings of `env`.
+    pub env: EnvOptions,
     /// The render's seed (for integrators with random streams of their own: `mlt`).
     pub seed: u64,
 }
@@ -146,6 +150,7 @@ impl Default for IntegratorOptions {
             debug_strategies: false,
             mlt: MltOptions::default(),
             photon: PhotonOptions::default(),
+            env: EnvOptions::default(),
             seed: 0,
         }
     }
@@ -161,10 +166,11 @@ pub enum IntegratorKind {
     Mlt,
     Sppm,
     Photon,
+    Env,
 }
 
 impl IntegratorKind {
-    pub const NAMES: [&'static str; 7] = ["whitted", "direct", "path", "bdpt", "mlt", "sppm", "photon"];
+    pub const NAMES: [&'static str; 8] = ["whitted", "direct", "path", "bdpt", "mlt", "sppm", "photon", "env"];
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
@@ -175,6 +181,7 @@ impl IntegratorKind {
             "mlt" => Some(IntegratorKind::Mlt),
             "sppm" => Some(IntegratorKind::Sppm),
             "photon" => Some(IntegratorKind::Photon),
+            "env" => Some(IntegratorKind::Env),
             _ => None,
         }
     }
@@ -188,6 +195,7 @@ impl IntegratorKind {
             IntegratorKind::Mlt => Box::new(Mlt::new(options)),
             IntegratorKind::Sppm => Box::new(Sppm::new(options)),
             IntegratorKind::Photon => Box::new(PhotonMapper::new(options)),
+            IntegratorKind::Env => Box::new(EnvDirect::new(options.env, options.seed)),
         }
     }
 }

@@ -24,11 +24,12 @@ use crate::bsdfs::TransportMode;
 use crate::driver::Progress;
 use crate::Scene;
 use penumbra_core::{PixelSampler, Ray, Rgb};
-use std::sync::OnceLock;
+use std::sync::RwLock;
 
 pub struct PhotonMapper {
     pub options: IntegratorOptions,
-    maps: OnceLock<Maps>,
+    /// Built by `prepare`, afresh for every render (a frame may change the lights).
+    maps: RwLock<Option<Maps>>,
 }
 
 struct Map {
@@ -59,7 +60,7 @@ impl PhotonMapper {
     pub fn new(options: IntegratorOptions) -> Self {
         PhotonMapper {
             options,
-            maps: OnceLock::new(),
+            maps: RwLock::new(None),
         }
     }
 
@@ -158,7 +159,8 @@ impl Integrator for PhotonMapper {
         _: &mut Vec<Splat>,
     ) -> Rgb {
         let w = walk(scene, *ray, Rgb::WHITE, 0, &self.options, true, sampler, counts);
-        let (Some(vp), Some(maps)) = (w.point, self.maps.get()) else {
+        let maps = self.maps.read().unwrap_or_else(|e| e.into_inner());
+        let (Some(vp), Some(maps)) = (w.point, maps.as_ref()) else {
             return w.radiance;
         };
         let mut radiance = w.radiance + vp.beta * self.estimate(&maps.caustic, &vp);
@@ -189,12 +191,14 @@ impl Integrator for PhotonMapper {
 
     fn prepare(&self, scene: &Scene, _: &dyn Progress) -> RayCounts {
         let mut counts = RayCounts::default();
-        self.maps.get_or_init(|| self.build(scene, &mut counts));
+        let maps = self.build(scene, &mut counts);
+        *self.maps.write().unwrap_or_else(|e| e.into_inner()) = Some(maps);
         counts
     }
 
     fn report(&self) -> Vec<String> {
-        let Some(m) = self.maps.get() else {
+        let maps = self.maps.read().unwrap_or_else(|e| e.into_inner());
+        let Some(m) = maps.as_ref() else {
             return Vec::new();
         };
         let mut lines = vec![format!(

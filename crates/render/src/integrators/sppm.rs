@@ -95,16 +95,13 @@ impl Sppm {
                         let u_lens = sampler.next_2d();
                         let ray = scene.camera.generate_ray(film, u_lens);
                         rays.camera += 1;
-                        let w = walk(
-                            scene,
-                            ray,
-                            Rgb::splat(weight),
-                            0,
-                            &self.options,
-                            true,
-                            &mut sampler,
-                            &mut rays,
-                        );
+                        let mut w = walk(scene, ray, Rgb::WHITE, 0, &self.options, true, &mut sampler, &mut rays);
+                        // The filter's weight (negative for some filters) only scales the
+                        // estimate: roulette on the way saw the path's own throughput.
+                        w.radiance = w.radiance * weight;
+                        if let Some(vp) = w.point.as_mut() {
+                            vp.beta = vp.beta * weight;
+                        }
                         let footprint = w.point.map_or(0.0, |vp| {
                             let next = scene.camera.generate_ray(film + Vec2::X, u_lens);
                             footprint(&ray, &next, vp.distance)
@@ -167,7 +164,8 @@ impl PassIntegrator for Sppm {
         let mut counts = RayCounts::default();
         let mut state = self.state.lock().unwrap_or_else(|e| e.into_inner());
         let pixels = scene.width as usize * scene.height as usize;
-        if state.pixels.len() != pixels {
+        if index == 0 || state.pixels.len() != pixels {
+            // A new render (or a new frame): nothing carries over.
             *state = State {
                 pixels: vec![PixelState::default(); pixels],
                 ..State::default()

@@ -64,6 +64,20 @@ pub struct EmissionSample {
     pub pdf_dir: f32,
 }
 
+impl EmissionSample {
+    /// The light path's starting throughput for a light picked with probability `pick`:
+    /// Le |cos θ| / (pick pdf_pos pdf_dir) (cos θ between the normal and the ray; 1 for
+    /// point lights).
+    pub fn throughput(&self, pick: f32) -> Rgb {
+        let cos = if self.normal == Vec3::ZERO {
+            1.0
+        } else {
+            self.normal.dot(self.ray.dir).abs()
+        };
+        self.le * (cos / (pick * self.pdf_pos * self.pdf_dir))
+    }
+}
+
 /// The bounding sphere (centre, radius) of a scene's finite geometry: where lights at
 /// infinity aim their rays.
 pub type SceneSphere = (Vec3, f32);

@@ -116,6 +116,7 @@ pub(crate) fn default_lighting(desc: &mut SceneDesc) {
         source: EnvironmentSource::Constant,
         scale: Rgb::splat(0.3),
         transform: Transform::IDENTITY,
+        spin: 0.0,
         location: None,
     });
     let right = Vec3::Y.cross(view_direction()).normalize();

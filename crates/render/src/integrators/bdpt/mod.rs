@@ -20,6 +20,7 @@ use crate::lights::{AreaSampling, LightSelection};
 use crate::Scene;
 use glam::Vec3;
 use penumbra_core::{Draws, PixelSampler, Ray, Rgb};
+pub(super) use vertex::shading_correction;
 use vertex::{geometry, sides_agree, unoccluded, Kind, Vertex};
 
 pub struct Bdpt {
@@ -210,12 +211,7 @@ impl Bdpt {
         let mut v = Vertex::new(scene, Kind::Light { index }, e.ray.origin, e.normal, e.le);
         v.pdf_fwd = e.pdf_pos * pick;
         path.push(v);
-        let cos = if e.normal == Vec3::ZERO {
-            1.0
-        } else {
-            e.normal.dot(e.ray.dir).abs()
-        };
-        let beta = e.le * (cos / (pick * e.pdf_pos * e.pdf_dir));
+        let beta = e.throughput(pick);
         counts.secondary += 1;
         self.walk(
             scene,

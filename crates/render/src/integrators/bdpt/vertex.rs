@@ -288,7 +288,7 @@ pub(super) fn sides_agree(ng: Vec3, ns: Vec3, w: Vec3) -> bool {
 
 /// The factor that makes scattering of importance at shading normals symmetric (Veach
 /// 1997, eq. 5.19): |wo·ns| |wi·ng| / (|wo·ng| |wi·ns|).
-pub(super) fn shading_correction(ng: Vec3, ns: Vec3, wo: Vec3, wi: Vec3) -> f32 {
+pub(crate) fn shading_correction(ng: Vec3, ns: Vec3, wo: Vec3, wi: Vec3) -> f32 {
     let den = wo.dot(ng).abs() * wi.dot(ns).abs();
     if den == 0.0 {
         return 0.0;

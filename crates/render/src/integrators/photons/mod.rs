@@ -18,6 +18,7 @@ mod map;
 
 pub use map::PhotonMap;
 
+use super::bdpt::shading_correction;
 use super::nee::{self, LightStrategy, Shading};
 use super::{IntegratorOptions, MisHeuristic, RayCounts};
 use crate::bsdfs::{Bsdf, TransportMode};
@@ -91,8 +92,17 @@ impl PhotonOptions {
                 self.radius
             ));
         }
-        if self.lookup == 0 {
-            return Err("the photon lookup size must be at least 1".into());
+        if !(1..=100_000).contains(&self.lookup) {
+            return Err(format!(
+                "the photon lookup size must be from 1 to 100000, found {}",
+                self.lookup
+            ));
+        }
+        if !(1..=4096).contains(&self.gather) {
+            return Err(format!(
+                "the final-gathering rays must be from 1 to 4096, found {}",
+                self.gather
+            ));
         }
         Ok(())
     }
@@ -153,12 +163,7 @@ fn trace_photon(
     let Some(e) = scene.lights.lights()[index as usize].sample_le(u_pos, u_dir, scene.sphere) else {
         return;
     };
-    let cos = if e.normal == Vec3::ZERO {
-        1.0
-    } else {
-        e.normal.dot(e.ray.dir).abs()
-    };
-    let mut beta = e.le * (cos / (pick * e.pdf_pos * e.pdf_dir));
+    let mut beta = e.throughput(pick);
     if !beta.is_finite() || beta.is_black() {
         return;
     }
@@ -215,16 +220,6 @@ fn trace_photon(
     }
 }
 
-/// |wo·ns| |wi·ng| / (|wo·ng| |wi·ns|): what makes scattering importance at a shading
-/// normal symmetric (Veach 1997, eq. 5.19).
-fn shading_correction(ng: Vec3, ns: Vec3, wo: Vec3, wi: Vec3) -> f32 {
-    let den = wo.dot(ng).abs() * wi.dot(ns).abs();
-    if den == 0.0 {
-        return 0.0;
-    }
-    wo.dot(ns).abs() * wi.dot(ng).abs() / den
-}
-
 /// Where a camera path stops for a density estimate: the surface, its BSDF towards the
 /// viewer, and the path's weight and length.
 #[derive(Clone, Copy, Debug)]
@@ -245,7 +240,7 @@ pub struct VisiblePoint<'a> {
 }
 
 /// Photons whose surface normal leans further than this from a visible point's (cosine)
-/// are not its surface's: the other wall at a corner, the far side of a thin panel.
+/// are not its surface's: the other wall at a corner.
 const SAME_SURFACE_COS: f32 = 0.8;
 
 /// Photons further than this share of the radius off a visible point's tangent plane are
@@ -255,11 +250,15 @@ const DISC_THICKNESS: f32 = 0.25;
 
 impl VisiblePoint<'_> {
     /// Whether `photon` lies on this point's surface, as far as a disc of radius `r` can
-    /// tell: its normal close to the point's, and near the tangent plane. Both tests only
-    /// reject photons a shrinking radius would leave out anyway, so the estimate keeps its
-    /// limit; they remove most of the light that leaks around corners at finite radii.
+    /// tell: its normal close to the point's (either way round), and near the tangent
+    /// plane. On a surface smooth at the disc's scale both hold as r shrinks, so the
+    /// estimate keeps its limit; they remove most of the light that leaks around corners
+    /// at finite radii (faceted meshes lose some light at sharp creases until the radius
+    /// is below a facet).
     pub fn same_surface(&self, photon: &Photon, r: f32) -> bool {
-        photon.n.dot(self.ng) >= SAME_SURFACE_COS && (photon.p - self.p).dot(self.ng).abs() <= DISC_THICKNESS * r
+        // (Either side: light through a rough dielectric arrives from behind; the BSDF
+        // itself gives nothing to photons behind an opaque surface.)
+        photon.n.dot(self.ng).abs() >= SAME_SURFACE_COS && (photon.p - self.p).dot(self.ng).abs() <= DISC_THICKNESS * r
     }
 
     /// What `photon` adds to the radiance leaving towards the viewer, before dividing by

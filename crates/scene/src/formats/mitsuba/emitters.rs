@@ -63,6 +63,7 @@ pub fn emitter(r: &mut Reader, at: At) -> Result<()> {
                 scale,
                 transform: Transform::from_matrix(glam::Mat4::from_mat3(glam::Mat3::from_mat4(to_world.m)))
                     .unwrap_or(Transform::IDENTITY),
+                spin: 0.0,
                 location: Some(at.location()),
             });
         }

@@ -160,6 +160,7 @@ fn read_render(t: &Table) -> Result<RenderDesc> {
         direct,
         mlt: d.mlt,
         photon: d.photon,
+        env: d.env,
     })
 }
 
@@ -309,7 +310,8 @@ fn read_camera(t: &Table) -> Result<CameraDesc> {
 }
 
 /// `[environment]`: `radiance` (a constant colour) or `file` (an equirectangular .exr, .hdr
-/// or .pfm map) with `scale`, and a `transform` that may only rotate.
+/// or .pfm map) with `scale`, a `transform` that may only rotate, and `spin` (degrees per
+/// animation frame about +y).
 fn read_environment(t: &Table) -> Result<EnvironmentDesc> {
     let (source, scale) = match (t.get("file"), t.get("radiance")) {
         (Some(f), None) => {
@@ -342,10 +344,15 @@ fn read_environment(t: &Table) -> Result<EnvironmentDesc> {
         }
         None => penumbra_core::Transform::IDENTITY,
     };
+    let spin = t.f32_or("spin", 0.0)?;
+    if !spin.is_finite() {
+        return Err(t.require("spin")?.error("must be a finite number of degrees per frame"));
+    }
     Ok(EnvironmentDesc {
         source,
         scale,
         transform,
+        spin,
         location: Some(t.location()),
     })
 }

@@ -504,6 +504,7 @@ pub fn light(r: &mut Reader, kind: &str, p: &Params, file: &SourceFile, here: Lo
                 source,
                 scale,
                 transform,
+                spin: 0.0,
                 location: Some(here.clone()),
             });
         }
