@@ -10,6 +10,15 @@ use penumbra::scene::{SceneDesc, SourceFile};
 use penumbra::RenderControl;
 use std::path::PathBuf;
 
+/// Every strategy.
+const ALL: [EnvSampling; 5] = [
+    EnvSampling::Light,
+    EnvSampling::Bsdf,
+    EnvSampling::Mis,
+    EnvSampling::Sir,
+    EnvSampling::Smc,
+];
+
 fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -52,13 +61,7 @@ fn every_strategy_passes_the_white_furnace() {
         [[material]]\nname = \"white\"\ntype = \"diffuse\"\nreflectance = 1\n\
         [[shape]]\ntype = \"sphere\"\nradius = 1\nmaterial = \"white\"\n";
     let desc = penumbra::scene::formats::native::read(&SourceFile::new("furnace.toml", text.to_string())).unwrap();
-    for sampling in [
-        EnvSampling::Light,
-        EnvSampling::Bsdf,
-        EnvSampling::Mis,
-        EnvSampling::Sir,
-        EnvSampling::Smc,
-    ] {
+    for sampling in ALL {
         for (f, image) in frames(&desc, sampling, 8, 0..3).iter().enumerate() {
             let (mean, se) = mean_and_se(image);
             println!("{sampling:?} frame {f}: {mean:.5} ± {se:.5}");
@@ -85,13 +88,7 @@ fn strategies_agree_under_a_turning_sky() {
     let mut desc = penumbra::scene::formats::native::read(&file).unwrap();
     (desc.render.width, desc.render.height) = (40, 30);
     let reference = frames(&desc, EnvSampling::Mis, 256, 0..4);
-    for sampling in [
-        EnvSampling::Light,
-        EnvSampling::Bsdf,
-        EnvSampling::Mis,
-        EnvSampling::Sir,
-        EnvSampling::Smc,
-    ] {
+    for sampling in ALL {
         let images = frames(&desc, sampling, 16, 0..4);
         for (f, (image, reference)) in images.iter().zip(&reference).enumerate() {
             let difference: Vec<f64> = image.iter().zip(reference).map(|(a, b)| a - b).collect();

@@ -20,7 +20,6 @@
 
 use super::nee::{self, LightStrategy, Shading};
 use super::{specular_bounces, Integrator, IntegratorOptions, RayCounts, Splat};
-use crate::bsdfs::TransportMode;
 use crate::lights::{AreaSampling, LightSelection};
 use crate::Scene;
 use glam::Vec2;
@@ -276,7 +275,7 @@ impl Direct {
         nee::light_sample(scene, sh, index, p_pick, u, &strategy).map_or(Rgb::BLACK, |t| t.trace(scene, counts))
     }
 
-    /// One BSDF-sampling estimate: a direction from the BSDF and the area light its ray
+    /// One BSDF-sampling estimate: a direction from the BSDF and the light its ray
     /// reaches, if any, MIS-weighted against light sampling in `mis` mode.
     fn bsdf_sample(
         &self,
@@ -287,59 +286,16 @@ impl Direct {
         counts: &mut RayCounts,
     ) -> Rgb {
         let o = &self.options.direct;
-        let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
-        // Delta lobes are followed by the specular rays instead.
-        let Some(bs) = sh
-            .bsdf
-            .sample(sh.wo, u_lobe, u, TransportMode::Radiance)
-            .filter(|s| !s.delta)
-        else {
-            return Rgb::BLACK;
-        };
-        let wi = sh.frame.to_world(bs.wi);
-        if !sh.agrees(wi, bs.wi) {
-            return Rgb::BLACK;
-        }
-        let p_bsdf = bs.pdf;
-        counts.secondary += 1;
-        let origin = sh.origin_towards(wi);
+        let u = (sampler.next_1d(), sampler.next_2d());
         let n = n as f32;
-        let Some(hit) = scene.intersect(&Ray::new(origin, wi), f32::INFINITY) else {
-            let Some(env) = scene.environment() else {
-                return Rgb::BLACK;
-            };
-            let weight = if o.sampling == LightSampling::Mis {
-                nee::environment_weight(scene, (o.selection, o.heuristic), env, wi, (n, p_bsdf), n)
-            } else {
-                1.0
-            };
-            return bs.weight * env.1.le(wi) * (weight / n);
-        };
-        let Some((index, light)) = scene.emitter_at(&hit) else {
-            return Rgb::BLACK;
-        };
-        let normal = light.emitter.normal_at(hit.surface.p);
-        let le = light.le(hit.surface.p, normal, -wi);
-        if le.is_black() {
-            return Rgb::BLACK;
-        }
-        let weight = if o.sampling == LightSampling::Mis {
-            let (sel, h) = (o.selection, o.heuristic);
-            nee::emitter_weight(
-                scene,
-                (sel, AreaSampling::SolidAngle),
-                h,
-                origin,
-                (index, light),
-                hit.surface.p,
-                normal,
-                (n, p_bsdf),
-                n,
-            )
-        } else {
-            1.0
-        };
-        bs.weight * le * (weight / n)
+        let mis = (o.sampling == LightSampling::Mis).then_some(nee::BsdfMis {
+            selection: o.selection,
+            sampling: AreaSampling::SolidAngle,
+            heuristic: o.heuristic,
+            n_bsdf: n,
+            n_light: n,
+        });
+        nee::bsdf_light_sample(scene, sh, u, mis, false, counts) * (1.0 / n)
     }
 }
 

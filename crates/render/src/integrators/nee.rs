@@ -187,3 +187,84 @@ pub(super) fn emitter_weight(
     let p_light = light.pdf(p, point, normal, sampling);
     heuristic.weight(n_bsdf * p_bsdf, n_light * p_pick * p_light)
 }
+
+/// How a BSDF sample that reaches a light is weighted against light sampling: lights
+/// picked by `selection`, area lights sampled by `sampling`, `n_bsdf` BSDF and `n_light`
+/// light samples per shading point, combined by `heuristic`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct BsdfMis {
+    pub selection: LightSelection,
+    pub sampling: AreaSampling,
+    pub heuristic: MisHeuristic,
+    pub n_bsdf: f32,
+    pub n_light: f32,
+}
+
+/// One BSDF-sampling estimate of direct light at `sh` (delta lobes left to the specular
+/// rays): f cos / pdf times the radiance of the area light or environment its ray meets,
+/// weighted by `mis` when given (else 1); a ray that leaves a scene without an environment
+/// brings the background when `background`.
+pub(super) fn bsdf_light_sample(
+    scene: &Scene,
+    sh: &Shading,
+    (u_lobe, u): (f32, Vec2),
+    mis: Option<BsdfMis>,
+    background: bool,
+    counts: &mut RayCounts,
+) -> Rgb {
+    let Some(bs) = sh
+        .bsdf
+        .sample(sh.wo, u_lobe, u, TransportMode::Radiance)
+        .filter(|s| !s.delta)
+    else {
+        return Rgb::BLACK;
+    };
+    let wi = sh.frame.to_world(bs.wi);
+    if !sh.agrees(wi, bs.wi) {
+        return Rgb::BLACK;
+    }
+    counts.secondary += 1;
+    let origin = sh.origin_towards(wi);
+    let Some(hit) = scene.intersect(&Ray::new(origin, wi), f32::INFINITY) else {
+        let Some(env) = scene.environment() else {
+            return if background {
+                bs.weight * scene.background
+            } else {
+                Rgb::BLACK
+            };
+        };
+        let weight = mis.map_or(1.0, |m| {
+            environment_weight(
+                scene,
+                (m.selection, m.heuristic),
+                env,
+                wi,
+                (m.n_bsdf, bs.pdf),
+                m.n_light,
+            )
+        });
+        return bs.weight * env.1.le(wi) * weight;
+    };
+    let Some((index, light)) = scene.emitter_at(&hit) else {
+        return Rgb::BLACK;
+    };
+    let normal = light.emitter.normal_at(hit.surface.p);
+    let le = light.le(hit.surface.p, normal, -wi);
+    if le.is_black() {
+        return Rgb::BLACK;
+    }
+    let weight = mis.map_or(1.0, |m| {
+        emitter_weight(
+            scene,
+            (m.selection, m.sampling),
+            m.heuristic,
+            origin,
+            (index, light),
+            hit.surface.p,
+            normal,
+            (m.n_bsdf, bs.pdf),
+            m.n_light,
+        )
+    });
+    bs.weight * le * weight
+}

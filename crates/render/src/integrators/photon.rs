@@ -88,11 +88,11 @@ impl PhotonMapper {
         };
         while (0..2).any(|m| filling(&kept, m, total)) {
             let keep = |ph: &Photon| keep_global(ph) || keep_caustic(ph);
-            let photons = trace_photons(
+            let (photons, _) = trace_photons(
                 scene,
                 &self.options,
                 (seed, total..total + BATCH),
-                max_depth.saturating_sub(1),
+                (max_depth.saturating_sub(1), usize::MAX),
                 &keep,
                 counts,
             );

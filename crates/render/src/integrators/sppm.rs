@@ -52,9 +52,9 @@ struct PixelState {
     r: f32,
 }
 
-/// Photons kept per batch of a pass, at most: a batch traces this many photon paths over
-/// the longest path's segments (so memory stays bounded whatever `max_depth` is).
-const BATCH_PHOTONS: u64 = 1 << 21;
+/// Photons kept per batch of a pass: a batch ends once it holds this many (see
+/// [`trace_photons`]: never more than twice), so memory stays bounded whatever the scene.
+const BATCH_PHOTONS: usize = 1 << 21;
 
 impl Sppm {
     pub fn new(options: IntegratorOptions) -> Self {
@@ -191,20 +191,18 @@ impl PassIntegrator for Sppm {
         // The photons of this pass, in batches; each pixel's flux Φ and count M.
         let per_pass = self.photons_per_pass(scene);
         let max_depth = self.options.max_depth as usize;
-        let batch = (BATCH_PHOTONS / max_depth.max(1) as u64).clamp(1024, 1 << 18);
         let mut gathered = vec![([0f64; 3], 0u64); pixels];
         let first = per_pass * index as u64;
         let keep = |ph: &Photon| ph.segments >= 2;
         state.stored = 0;
         let mut start = first;
         while start < first + per_pass {
-            let end = (start + batch).min(first + per_pass);
             let seed = self.options.seed ^ 0x0b5e_55ed;
-            let photons = trace_photons(
+            let (photons, end) = trace_photons(
                 scene,
                 &self.options,
-                (seed, start..end),
-                max_depth.saturating_sub(1),
+                (seed, start..first + per_pass),
+                (max_depth.saturating_sub(1), BATCH_PHOTONS),
                 &keep,
                 &mut counts,
             );

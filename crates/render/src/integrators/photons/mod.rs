@@ -112,35 +112,45 @@ impl PhotonOptions {
 /// concatenated in emission order.
 const CHUNK: u64 = 1024;
 
-/// The photons of emissions `range` (each photon's random numbers its own stream of
-/// `seed`), traced up to `max_segments` segments, that `keep` accepts, in emission order.
+/// The photons of emissions from `range.start` on (each photon's random numbers its own
+/// stream of `seed`), traced up to `max_segments` segments, that `keep` accepts, in
+/// emission order; emission stops at `range.end` or, at the end of a group of chunks, once
+/// `limit` photons are kept (a fixed rule: the same for any thread count). Returns them and
+/// where emission stopped. At most `limit` plus one group's photons are held, and a group
+/// is small enough that even paths of `max_segments` keep that under 2 `limit`.
 pub fn trace_photons(
     scene: &Scene,
     options: &IntegratorOptions,
     (seed, range): (u64, std::ops::Range<u64>),
-    max_segments: usize,
+    (max_segments, limit): (usize, usize),
     keep: &(dyn Fn(&Photon) -> bool + Sync),
     counts: &mut RayCounts,
-) -> Vec<Photon> {
-    let chunks = (range.end - range.start).div_ceil(CHUNK);
-    let traced: Vec<(Vec<Photon>, RayCounts)> = (0..chunks)
-        .into_par_iter()
-        .map(|c| {
-            let (mut out, mut rays) = (Vec::new(), RayCounts::default());
-            let first = range.start + c * CHUNK;
-            for index in first..(first + CHUNK).min(range.end) {
-                let mut rng = Pcg32::new(seed, index);
-                trace_photon(scene, options, max_segments, &mut rng, keep, &mut out, &mut rays);
-            }
-            (out, rays)
-        })
-        .collect();
-    let mut photons = Vec::with_capacity(traced.iter().map(|t| t.0.len()).sum());
-    for (p, r) in traced {
-        photons.extend(p);
-        counts.add(&r);
+) -> (Vec<Photon>, u64) {
+    let group = (limit as u64 / max_segments.max(1) as u64).clamp(CHUNK, 64 * CHUNK);
+    let mut photons = Vec::new();
+    let mut start = range.start;
+    while start < range.end && photons.len() < limit {
+        let end = (start + group).min(range.end);
+        let traced: Vec<(Vec<Photon>, RayCounts)> = (start..end)
+            .step_by(CHUNK as usize)
+            .collect::<Vec<u64>>()
+            .into_par_iter()
+            .map(|first| {
+                let (mut out, mut rays) = (Vec::new(), RayCounts::default());
+                for index in first..(first + CHUNK).min(end) {
+                    let mut rng = Pcg32::new(seed, index);
+                    trace_photon(scene, options, max_segments, &mut rng, keep, &mut out, &mut rays);
+                }
+                (out, rays)
+            })
+            .collect();
+        for (p, r) in traced {
+            photons.extend(p);
+            counts.add(&r);
+        }
+        start = end;
     }
-    photons
+    (photons, start)
 }
 
 /// One photon: a light picked by power, an emitted ray, then a random walk scattering
@@ -421,45 +431,13 @@ pub fn direct(scene: &Scene, sh: &Shading, sampler: &mut impl Draws, counts: &mu
             radiance += test.trace(scene, counts);
         }
     }
-    let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
-    let Some(bs) = sh
-        .bsdf
-        .sample(sh.wo, u_lobe, u, TransportMode::Radiance)
-        .filter(|s| !s.delta)
-    else {
-        return radiance;
+    let u = (sampler.next_1d(), sampler.next_2d());
+    let mis = nee::BsdfMis {
+        selection,
+        sampling: strategy.sampling,
+        heuristic,
+        n_bsdf: 1.0,
+        n_light: 1.0,
     };
-    let wi = sh.frame.to_world(bs.wi);
-    if !sh.agrees(wi, bs.wi) {
-        return radiance;
-    }
-    let ray = Ray::new(sh.origin_towards(wi), wi);
-    counts.secondary += 1;
-    let mis = (selection, heuristic);
-    let le = match scene.intersect(&ray, f32::INFINITY) {
-        None => match scene.environment() {
-            Some(env) => env.1.le(wi) * nee::environment_weight(scene, mis, env, wi, (1.0, bs.pdf), 1.0),
-            None => scene.background,
-        },
-        Some(it) => match scene.emitter_at(&it) {
-            Some((index, light)) => {
-                let normal = light.emitter.normal_at(it.surface.p);
-                let le = light.le(it.surface.p, normal, it.wo);
-                let weight = nee::emitter_weight(
-                    scene,
-                    (selection, strategy.sampling),
-                    heuristic,
-                    ray.origin,
-                    (index, light),
-                    it.surface.p,
-                    normal,
-                    (1.0, bs.pdf),
-                    1.0,
-                );
-                le * weight
-            }
-            None => Rgb::BLACK,
-        },
-    };
-    radiance + bs.weight * le
+    radiance + nee::bsdf_light_sample(scene, sh, u, Some(mis), true, counts)
 }

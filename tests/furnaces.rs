@@ -1,12 +1,13 @@
-//! The photon mappers (`sppm`, `photon`) against closed forms, the furnaces `path` and
-//! `bdpt` pass (tests/path.rs, tests/bdpt.rs): a camera inside a closed emitting sphere of
-//! albedo ρ sees (1 - ρ^D) / (1 - ρ) with at most D segments; lossless balls vanish
-//! against an emitting sphere and under a uniform environment.
+//! Metropolis light transport (`mlt`) and the photon mappers (`sppm`, `photon`) against
+//! closed forms, the furnaces `path` and `bdpt` pass (tests/path.rs, tests/bdpt.rs): a
+//! camera inside a closed emitting sphere of albedo ρ sees (1 - ρ^D) / (1 - ρ) with at
+//! most D segments; lossless balls vanish against an emitting sphere and under a uniform
+//! environment.
 //!
-//! A photon lands in the gather discs of many pixels, so pixels are not independent and
-//! the image's own pixel spread says nothing of the error of its mean. The standard error
-//! is taken from independent renders instead (different seeds): that of the mean of K
-//! renders is their standard deviation over √K.
+//! A photon lands in the gather discs of many pixels, and a Markov chain splats to many
+//! pixels, so pixels are not independent and the image's own pixel spread says nothing of
+//! the error of its mean. The standard error is taken from independent renders instead
+//! (different seeds): that of the mean of K renders is their standard deviation over √K.
 
 use penumbra::renderer::integrators::IntegratorKind;
 use penumbra::scene::{SceneDesc, SourceFile};
@@ -17,11 +18,14 @@ fn desc(text: &str) -> SceneDesc {
 }
 
 /// The red channel's image mean over `runs` renders with seeds 1, 2, ..., and its
-/// standard error from their spread.
+/// standard error from their spread. (`mlt` with a small bootstrap and few chains: the
+/// furnaces are easy, and every path length gets its own bootstrap.)
 fn mean_and_se(desc: &SceneDesc, integrator: IntegratorKind, spp: u32, runs: u32) -> (f64, f64) {
     let means: Vec<f64> = (1..=runs as u64)
         .map(|seed| {
             let mut desc = desc.clone();
+            desc.render.mlt.bootstrap = 2000;
+            desc.render.mlt.chains = 64;
             desc.render.integrator = integrator;
             desc.render.spp = spp;
             desc.render.seed = seed;
@@ -36,13 +40,13 @@ fn mean_and_se(desc: &SceneDesc, integrator: IntegratorKind, spp: u32, runs: u32
     (mean, (var / k).sqrt())
 }
 
-/// The closed furnace for D = 1, 2, 3, 6 segments at albedo 0.5 and 0.9, for both photon
-/// mappers: within 4 standard errors and 1.5% of the series. Every photon here has the
-/// same density everywhere, and a disc of chord radius r on a sphere has area exactly
-/// π r², so neither the radius nor the k nearest leave a bias; only noise remains.
+/// The closed furnace for D = 1, 2, 3, 6 segments at albedo 0.5 and 0.9, for `mlt` and
+/// both photon mappers: within 4 standard errors and 1.5% of the series. Every photon
+/// here has the same density everywhere, and a disc of chord radius r on a sphere has area
+/// exactly π r², so neither the radius nor the k nearest leave a bias; only noise remains.
 #[test]
-fn photon_mappers_sum_the_furnace_series() {
-    for integrator in [IntegratorKind::Sppm, IntegratorKind::Photon] {
+fn mlt_and_photon_mappers_sum_the_furnace_series() {
+    for integrator in [IntegratorKind::Mlt, IntegratorKind::Sppm, IntegratorKind::Photon] {
         for (albedo, max_depth) in [(0.5f64, 1u32), (0.5, 2), (0.5, 3), (0.9, 6)] {
             let mut scene = desc(&format!(
                 "[render]\nwidth = 16\nheight = 16\nmax_depth = {max_depth}\n\
@@ -95,6 +99,10 @@ fn lossless_balls_vanish_for_the_photon_mappers() {
             } else {
                 "sphere"
             };
+            // (Not `mlt` yet: with these short runs (2,000 bootstrap states per length, 64
+            // chains) the white plastic under the environment comes out 0.5% dark, 6
+            // standard errors, and 20,000 states put it right; the cause is not found.
+            // Issue 7 tracks it.)
             for integrator in [IntegratorKind::Sppm, IntegratorKind::Photon] {
                 let (mean, se) = mean_and_se(&scene, integrator, 8, 4);
                 println!("{integrator:?}: {what} in the {place}: {mean:.5} ± {se:.5}");
