@@ -71,10 +71,10 @@ fn mlt_and_photon_mappers_sum_the_furnace_series() {
 /// Lossless balls (glass, white diffuse, white plastic with its delta coat) inside an
 /// emitting sphere that reflects nothing, and under a uniform environment: as bright as
 /// their surroundings (radiance 1), within 4 standard errors (plus 1e-4 for rounding) and
-/// 1%. The plastic and the glass exercise the camera walk's choice at surfaces with both
-/// delta and smooth parts, and its delta bounces.
+/// 1% (2% for `mlt`). The plastic and the glass exercise the photon mappers' camera walk
+/// at surfaces with both delta and smooth parts, and its delta bounces.
 #[test]
-fn lossless_balls_vanish_for_the_photon_mappers() {
+fn lossless_balls_vanish_for_mlt_and_the_photon_mappers() {
     let camera = "[render]\nwidth = 16\nheight = 16\nmax_depth = 64\n\
         [camera]\nposition = [0, 0, 2.5]\ntarget = [0, 0, 0]\nfov = 30\n";
     for (what, material) in [
@@ -99,16 +99,21 @@ fn lossless_balls_vanish_for_the_photon_mappers() {
             } else {
                 "sphere"
             };
-            // (Not `mlt` yet: with these short runs (2,000 bootstrap states per length, 64
-            // chains) the white plastic under the environment came out 0.5% dark against
-            // a standard error of 0.08% from 4 seeds, while single runs scatter by ±0.5%:
-            // whether that is a bias or an understated error is not settled. Issue 7
-            // tracks it.)
-            for integrator in [IntegratorKind::Sppm, IntegratorKind::Photon] {
-                let (mean, se) = mean_and_se(&scene, integrator, 8, 4);
+            // `mlt` from 12 runs: its chains' splats make the run-to-run spread of the image
+            // mean wide (±0.5% here), and 4 runs understated it (one plastic case came out
+            // 0.9950 ± 0.0008 from 4 runs; 16 runs of it give 0.9997 ± 0.0010).
+            for (integrator, runs) in [
+                (IntegratorKind::Mlt, 12),
+                (IntegratorKind::Sppm, 4),
+                (IntegratorKind::Photon, 4),
+            ] {
+                let (mean, se) = mean_and_se(&scene, integrator, 8, runs);
                 println!("{integrator:?}: {what} in the {place}: {mean:.5} ± {se:.5}");
+                // (The cap is 1%, or 2% for `mlt`, whose standard error through the glass is
+                // 0.5% at these settings.)
+                let cap = if integrator == IntegratorKind::Mlt { 0.02 } else { 0.01 };
                 assert!(
-                    (mean - 1.0).abs() < 4.0 * se + 1e-4 && (mean - 1.0).abs() < 0.01,
+                    (mean - 1.0).abs() < 4.0 * se + 1e-4 && (mean - 1.0).abs() < cap,
                     "{integrator:?}: {what} in the {place}: {mean} ± {se}"
                 );
             }
