@@ -186,10 +186,10 @@ pub struct RenderArgs {
     /// `env`: shadow rays per pixel sample (N) [default: 4].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub env_samples: Option<u32>,
-    /// `env` with sir or smc: candidates per pixel sample (M) [default: 32].
+    /// `env` with sir or smc: candidates per pixel sample (M) [default: 8].
     #[arg(long, value_parser = clap::value_parser!(u32).range(2..=65536))]
     pub env_candidates: Option<u32>,
-    /// `env` with smc: Metropolis moves per particle per frame [default: 2].
+    /// `env` with smc: Metropolis moves per particle per frame [default: 4].
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=1024))]
     pub smc_moves: Option<u32>,
 }
