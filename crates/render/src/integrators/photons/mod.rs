@@ -10,9 +10,10 @@
 //! counted only when that is at most `max_depth`.
 //!
 //! At a surface with both delta lobes (a coat, glass) and a smooth part, the walk either
-//! stops there for a density estimate, with probability p_s (the smooth albedo's share),
-//! or goes on along one delta direction, chosen in proportion to its weight; each branch
-//! is divided by its probability, so the estimate stays unbiased whatever p_s is.
+//! stops there for a density estimate, with probability p_s (the albedo's share, kept in
+//! [0.2, 0.8]), or goes on along one delta direction, chosen in proportion to its weight;
+//! each branch is divided by its probability, so the estimate stays unbiased whatever p_s
+//! is.
 
 mod map;
 
@@ -340,9 +341,11 @@ pub fn walk<'a>(
         let p_smooth = match (smooth, delta > 0.0) {
             (false, _) => 0.0,
             (true, false) => 1.0,
+            // The albedo is only a guide (a Phong material's is its diffuse part alone), so
+            // each branch keeps at least a fifth: no branch weight above 5.
             (true, true) => {
-                let a = bsdf.albedo().luminance().max(0.05 * delta);
-                a / (a + delta)
+                let a = bsdf.albedo().luminance().max(0.0);
+                (a / (a + delta)).clamp(0.2, 0.8)
             }
         };
         let u = sampler.next_1d();
