@@ -255,3 +255,14 @@ fn photon_mapping_is_identical_for_any_thread_count() {
         same_on_one_and_two_threads(&desc);
     }
 }
+
+/// The `env` integrator's sequential Monte Carlo pass gives the same image on 1 and 2
+/// threads: rows in parallel, each pixel sample's numbers its own (pixel sampler and a
+/// stream of the pixel, pass and frame), added to the film in pixel order.
+#[test]
+fn smc_environment_sampling_is_identical_for_any_thread_count() {
+    let mut desc = repository_scene("glossy-env.toml", 40, 30);
+    desc.render.spp = 3;
+    desc.render.env.sampling = penumbra::renderer::integrators::EnvSampling::Smc;
+    same_on_one_and_two_threads(&desc);
+}

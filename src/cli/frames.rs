@@ -1,12 +1,13 @@
 //! `penumbra render SCENE --frames A..B`: an animation, one image per frame, numbered
 //! (`out.exr` becomes `out_0000.exr`, `out_0001.exr`, ...). The scene of frame f is
-//! [`SceneDesc::at_frame`] (the environment turned by its `spin`); one integrator renders
-//! every frame, so integrators that carry samples across frames (`env` with
-//! `--env-sampling smc`) keep them.
+//! [`SceneDesc::at_frame`] (the environment turned by its `spin`). `env` with
+//! `--env-sampling smc` renders every frame with one integrator, which carries its
+//! particles; every other integrator starts each frame afresh.
 
 use super::progress::Reporter;
 use super::Failure;
 use penumbra::renderer::driver::Stop;
+use penumbra::renderer::integrators::{EnvSampling, IntegratorKind};
 use penumbra::scene::image_io::{write_image, Image};
 use penumbra::scene::SceneDesc;
 use penumbra::RenderControl;
@@ -65,9 +66,19 @@ pub fn run(
     pool: &rayon::ThreadPool,
     cancel: &AtomicBool,
 ) -> Result<(), Failure> {
-    let integrator = penumbra::integrator(desc, false);
+    // Only `env` with `smc` carries anything from frame to frame; every other integrator
+    // starts each frame afresh (mlt's chains and normalisation belong to one frame).
+    let carries = desc.render.integrator == IntegratorKind::Env && desc.render.env.sampling == EnvSampling::Smc;
+    let mut integrator = penumbra::integrator(desc, false);
     let pixels = desc.render.width as u64 * desc.render.height as u64;
     for frame in first..end {
+        if cancel.load(Ordering::Relaxed) {
+            eprintln!("interrupted before frame {frame}");
+            break;
+        }
+        if !carries && frame > first {
+            integrator = penumbra::integrator(desc, false);
+        }
         let scene = desc.at_frame(frame);
         let reporter = Reporter::new(pixels * desc.render.spp as u64, quiet);
         let control = RenderControl {
@@ -81,6 +92,10 @@ pub fn run(
             .map_err(|e| Failure::BadInput(e.into()))?;
         reporter.finish();
         let film = &result.film;
+        if film.samples_per_pixel == 0 {
+            eprintln!("interrupted before frame {frame} had a sample: not written");
+            break;
+        }
         let pixels = film.image();
         let path = frame_path(output, frame);
         let image = Image {

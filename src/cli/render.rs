@@ -277,9 +277,24 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
         ),
     };
     apply_overrides(&mut desc, &args)?;
+    if args.frames.is_some() {
+        for (given, what) in [
+            (args.resume, "--resume"),
+            (args.checkpoint.is_some(), "--checkpoint"),
+            (args.aovs, "--aovs"),
+            (args.debug_strategies, "--debug-strategies"),
+        ] {
+            if given {
+                return Err(bad(format!(
+                    "{what} is not supported with --frames (each frame is rendered afresh)"
+                )));
+            }
+        }
+    }
     let what = match desc.render.integrator {
         IntegratorKind::Mlt => Some(("mlt", "Markov chains")),
         IntegratorKind::Sppm => Some(("sppm", "pixel statistics (radii, photon counts)")),
+        IntegratorKind::Env if desc.render.env.sampling == EnvSampling::Smc => Some(("env with smc", "particles")),
         _ => None,
     };
     if let Some((name, kept)) = what {
@@ -375,18 +390,6 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
     }
 
     if let Some(frames) = args.frames {
-        for (given, what) in [
-            (args.resume, "--resume"),
-            (args.checkpoint.is_some(), "--checkpoint"),
-            (args.aovs, "--aovs"),
-            (args.debug_strategies, "--debug-strategies"),
-        ] {
-            if given {
-                return Err(bad(format!(
-                    "{what} is not supported with --frames (each frame is rendered afresh)"
-                )));
-            }
-        }
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(args.threads.map_or(0, |t| t as usize))
             .build()

@@ -23,7 +23,7 @@
 mod smc;
 
 use super::nee::Shading;
-use super::{Integrator, PassIntegrator, RayCounts, Splat};
+use super::{Integrator, MisHeuristic, PassIntegrator, RayCounts, Splat};
 use crate::bsdfs::TransportMode;
 use crate::driver::Progress;
 use crate::lights::Environment;
@@ -128,9 +128,10 @@ impl Target<'_> {
         self.sh.bsdf.pdf(self.sh.wo, l, TransportMode::Radiance)
     }
 
-    /// The density of a candidate of the even mixture of map and BSDF sampling.
-    pub fn mixture_pdf(&self, w: Vec3) -> f32 {
-        0.5 * (self.env.pdf(w) + self.bsdf_pdf(w))
+    /// The density of a direction from the map with probability `share`, else from the
+    /// BSDF (the balance heuristic's density for that split of the samples).
+    pub fn mixture_pdf(&self, w: Vec3, share: f32) -> f32 {
+        share * self.env.pdf(w) + (1.0 - share) * self.bsdf_pdf(w)
     }
 
     /// A direction from the map (`from_map`) or from the BSDF's non-delta part.
@@ -148,8 +149,10 @@ impl Target<'_> {
         !scene.occluded(&Ray::new(self.sh.origin_towards(w), w), f32::INFINITY)
     }
 
-    /// M candidates from the even mixture (the first half from the map), each with its
-    /// product and weight p / q_mix; their mean weight estimates ∫ p (Burke et al. 2005).
+    /// M candidates, the first ⌊M/2⌋ from the map and the rest from the BSDF, each with its
+    /// product and weight p / q (q the mixture density for that split: Veach's balance
+    /// heuristic with sample counts, so an odd M is unbiased too); their mean weight
+    /// estimates ∫ p (Burke et al. 2005).
     pub fn candidates(&self, m: usize, sampler: &mut impl Draws, out: &mut Vec<(Vec3, Rgb, f32)>) -> f64 {
         out.clear();
         let mut sum = 0.0f64;
@@ -159,7 +162,7 @@ impl Target<'_> {
                 continue;
             };
             let (v, y) = self.product(w);
-            let q = self.mixture_pdf(w);
+            let q = self.mixture_pdf(w, (m / 2) as f32 / m as f32);
             if y > 0.0 && q > 0.0 {
                 let weight = y / q;
                 sum += weight as f64;
@@ -185,7 +188,11 @@ impl EnvDirect {
             if v.is_black() || p <= 0.0 || !t.visible(scene, w, counts) {
                 return Rgb::BLACK;
             }
-            let weight = if mis { power(p, t.bsdf_pdf(w)) } else { 1.0 };
+            let weight = if mis {
+                MisHeuristic::Power.weight(p, t.bsdf_pdf(w))
+            } else {
+                1.0
+            };
             v * (weight / p)
         };
         let bsdf = |sampler: &mut dyn FnMut() -> (f32, Vec2), counts: &mut RayCounts, mis: bool| {
@@ -198,7 +205,11 @@ impl EnvDirect {
             if v.is_black() || p <= 0.0 || !t.visible(scene, w, counts) {
                 return Rgb::BLACK;
             }
-            let weight = if mis { power(p, t.env.pdf(w)) } else { 1.0 };
+            let weight = if mis {
+                MisHeuristic::Power.weight(p, t.env.pdf(w))
+            } else {
+                1.0
+            };
             v * (weight / p)
         };
         let mut draw = || (sampler.next_1d(), sampler.next_2d());
@@ -213,11 +224,12 @@ impl EnvDirect {
                 let m = self.options.candidates.max(2) as usize;
                 let z = t.candidates(m, sampler, &mut candidates);
                 let picks = smc::systematic(candidates.iter().map(|c| c.2), n, sampler.next_1d());
-                for k in picks {
-                    let (w, v, _) = candidates[k];
+                // The picks come sorted: a candidate picked r times takes one shadow ray.
+                for run in picks.chunk_by(|a, b| a == b) {
+                    let (w, v, _) = candidates[run[0]];
                     let y = v.luminance();
                     if t.visible(scene, w, counts) {
-                        sum += v * (z as f32 / y);
+                        sum += v * (run.len() as f32 * z as f32 / y);
                     }
                 }
             }
@@ -264,16 +276,6 @@ impl EnvDirect {
 /// What supplies the smooth part of the reflected light instead of the strategies (`smc`'s
 /// particles).
 pub(super) type Reflected<'a> = dyn FnMut(&Target, &mut PixelSampler, &mut RayCounts) -> Rgb + 'a;
-
-/// The power heuristic's weight of a sample of density `f` against one of density `g`.
-fn power(f: f32, g: f32) -> f32 {
-    let (f2, g2) = (f * f, g * g);
-    if f2 + g2 > 0.0 {
-        f2 / (f2 + g2)
-    } else {
-        0.0
-    }
-}
 
 impl Integrator for EnvDirect {
     fn li(

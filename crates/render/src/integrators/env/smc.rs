@@ -7,14 +7,18 @@
 //!   candidates (`Target::candidates`);
 //! - each later frame: reweight each particle by p_t(ω) / p_{t-1}(ω) (the environment has
 //!   turned) and resample N in proportion to the weights (systematic resampling);
-//! - then rejuvenate: Metropolis moves that leave p_t invariant, each either a small
+//! - then rejuvenate: Metropolis-Hastings moves (Metropolis et al. 1953, Hastings 1970)
+//!   that leave p_t invariant, each either a small
 //!   random-walk step (uniform in a cone about the particle: symmetric) or an independent
 //!   draw from the map/BSDF mixture (accepted with p' q / (p q')).
 //!
 //! The estimate is Z_t × the mean of f L |cos θ| V / p_t over the particles (one shadow
-//! ray each), Z_t = ∫ p_t estimated afresh in every frame by the mean weight of M
-//! unshadowed candidates from the map/BSDF mixture (no rays: only the map and the BSDF
-//! are evaluated). Two other ways were tried and measured first. Carrying Z from frame to
+//! ray each). In the first frame (resampling, then moves that keep p invariant) it is
+//! unbiased; afterwards the carried particles only approximate p_t, and the estimate is
+//! biased by their lag behind a changing sky, a bias that more samples per pixel do not
+//! remove (more particles or moves do). Z_t = ∫ p_t is estimated afresh in every frame by
+//! the mean weight of M unshadowed candidates from the map/BSDF mixture (no rays: only the
+//! map and the BSDF are evaluated). Two other ways were tried and measured first. Carrying Z from frame to
 //! frame by the mean incremental weight (the SMC sampler's own normalising constant) is
 //! unbiased, but a sun that moves further than its own width between frames leaves no
 //! particle where it now is: relative MSE 10 to 20 from the second frame on. Using the
@@ -35,6 +39,7 @@ use crate::film::Pixel;
 use crate::integrators::{PassIntegrator, RayCounts};
 use crate::{Film, Scene};
 use glam::{UVec2, Vec2, Vec3};
+use penumbra_core::hash::hash_words;
 use penumbra_core::{warp, Draws, Frame, Pcg32, PixelSampler, Rgb, SamplerKind};
 use rayon::prelude::*;
 
@@ -60,8 +65,7 @@ pub(super) struct Particles {
     dirs: Vec<(Vec3, f32)>,
 }
 
-/// Half-angle of the random-walk moves' cone and of the importance function's cones
-/// (radians).
+/// Half-angle of the random-walk moves' cone (radians).
 const STEP: f32 = 0.05;
 
 /// A PCG32 stream as a source of the strategies' numbers.
@@ -108,8 +112,8 @@ impl State {
     pub fn report(&self) -> Vec<String> {
         let rate = |a: u64, b: u64| if b > 0 { 100.0 * a as f64 / b as f64 } else { 0.0 };
         vec![format!(
-            "smc: frame {}: {:.1}% of {} Metropolis moves accepted; {} of {} pixel samples started afresh",
-            self.frames.saturating_sub(1),
+            "smc: render {} with these particles: {:.1}% of {} Metropolis moves accepted; {} of {} pixel samples started afresh",
+            self.frames,
             rate(self.moves[1], self.moves[0]),
             self.moves[0],
             self.fresh[0],
@@ -174,7 +178,7 @@ impl EnvDirect {
                         tally[0] += 1;
                         continue;
                     };
-                    let (q_old, q_new) = (t.mixture_pdf(*w), t.mixture_pdf(v));
+                    let (q_old, q_new) = (t.mixture_pdf(*w, 0.5), t.mixture_pdf(v, 0.5));
                     (v, if q_new > 0.0 { q_old / q_new } else { 0.0 })
                 };
                 tally[0] += 1;
@@ -206,6 +210,9 @@ impl PassIntegrator for EnvDirect {
     fn pass(&self, scene: &Scene, filter: &Filters, index: u32, film: &mut Film, progress: &dyn Progress) -> RayCounts {
         let mut state = self.state.lock().unwrap_or_else(|e| e.into_inner());
         let (width, pixels) = (scene.width as usize, scene.width as usize * scene.height as usize);
+        if pixels == 0 {
+            return RayCounts::default();
+        }
         if state.passes.first().is_some_and(|p| p.len() != pixels) {
             state.passes.clear();
         }
@@ -234,7 +241,7 @@ impl PassIntegrator for EnvDirect {
                         let film_pos = pixel.as_vec2() + Vec2::splat(0.5) + offset;
                         let ray = scene.camera.generate_ray(film_pos, sampler.next_2d());
                         counts.camera += 1;
-                        let stream = (((y * width + x) as u64) << 20 | index as u64) ^ (frame << 44);
+                        let stream = hash_words(&[(y * width + x) as u64, index as u64, frame]);
                         let mut rng = Stream(Pcg32::new(self.seed ^ 0x0005_3c5e_9a11, stream));
                         let mut carry = |t: &Target, sampler: &mut PixelSampler, c: &mut RayCounts| {
                             let (v, rays) = self.carry(scene, t, slot, (sampler, &mut rng), &mut tally);
