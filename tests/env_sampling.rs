@@ -147,7 +147,11 @@ fn frames_write_numbered_images() {
     let (a, b) = (dir.path().join("a_0002.exr"), dir.path().join("a_0003.exr"));
     assert!(a.exists() && b.exists() && !dir.path().join("a_0004.exr").exists());
     assert_ne!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
-    assert!(text(&out.stderr).contains("smc: render 2 with these particles"), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("smc: render 2 with these particles"),
+        "{}",
+        text(&out.stderr)
+    );
     let bad = penumbra(dir.path(), &["render", scene, "--frames", "4..2"]);
     assert!(!bad.status.success());
     assert!(text(&bad.stderr).contains("holds no frames"), "{}", text(&bad.stderr));

@@ -335,6 +335,9 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
             IntegratorKind::NAMES[desc.render.integrator as usize]
         );
     }
+    if desc.render.integrator == IntegratorKind::Env && desc.environment.is_none() {
+        eprintln!("warning: `env` lights surfaces by the environment only, and the scene has no [environment]: only emitters seen directly will show");
+    }
     for warning in &desc.warnings {
         eprintln!("warning: {warning}");
     }
