@@ -195,11 +195,43 @@ impl Mlt {
         let spp = (n.div_ceil(pixels)).clamp(4, 256) as u32;
         let b_lengths = self.mean_luminance(scene, spp, counts);
         let b = b_lengths.iter().sum();
-        let mut chains: Vec<Chain> = (0..self.options.chains.max(1) as u64)
-            .into_par_iter()
+        // The chains' starting states, in proportion to their importance; then, when
+        // multiplexed, one more for each path length that brought light in the bootstrap but
+        // drew no chain (each length's chains carry its share b_l of the image, so a length
+        // without one would lose its light: a glass-and-white blend in a furnace lost 10%).
+        let count = self.options.chains.max(1) as u64;
+        let mut starts: Vec<usize> = (0..count)
             .map(|c| {
                 let mut pick = penumbra_core::Pcg32::new(self.seed ^ 0x9e37_79b9_7f4a_7c15, c);
-                let (k, _, _) = distribution.sample(pick.next_f32());
+                distribution.sample(pick.next_f32()).0
+            })
+            .collect();
+        if self.options.multiplexed {
+            let mut covered = vec![false; lengths];
+            starts.iter().for_each(|&k| covered[k % lengths] = true);
+            for l in (0..lengths).filter(|&l| !covered[l]) {
+                let states = (l..n).step_by(lengths);
+                let total: f64 = states.clone().map(|k| weights[k] as f64).sum();
+                if total <= 0.0 {
+                    continue;
+                }
+                let mut pick = penumbra_core::Pcg32::new(self.seed ^ 0x7f4a_7c15_9e37_79b9, l as u64);
+                let mut u = pick.next_f32() as f64 * total;
+                let chosen = states
+                    .clone()
+                    .find(|&k| {
+                        u -= weights[k] as f64;
+                        u < 0.0 && weights[k] > 0.0
+                    })
+                    .or_else(|| states.clone().rfind(|&k| weights[k] > 0.0));
+                starts.extend(chosen);
+            }
+        }
+        let mut chains: Vec<Chain> = starts
+            .into_par_iter()
+            .enumerate()
+            .map(|(c, k)| {
+                let c = c as u64;
                 let mut samples = new_samples(k);
                 let mut current = Vec::new();
                 let importance = self.evaluate(
