@@ -99,16 +99,7 @@ fn ball(material: &str, surroundings: &str) -> SceneDesc {
 /// smooth parts, and its delta bounces.
 #[test]
 fn lossless_balls_vanish_for_mlt_and_the_photon_mappers() {
-    for (what, material) in [
-        ("glass", "type = \"dielectric\"\nior = 1.5"),
-        ("phong glass", "diffuse = 0\ntransmission = 1\nior = 1.5"),
-        ("white diffuse", "type = \"diffuse\"\nreflectance = 1"),
-        ("white plastic", "type = \"plastic\"\ndiffuse = 1\nior = 1.5"),
-        (
-            "blend of glass and white",
-            "type = \"blend\"\na = \"glass\"\nb = \"white\"\nweight = 0.3",
-        ),
-    ] {
+    for (what, material) in penumbra_testkit::furnace::LOSSLESS_BALLS {
         for surroundings in [EMITTING_SPHERE, "[environment]\nradiance = 1\n"] {
             let scene = ball(material, surroundings);
             let place = if surroundings.contains("environment") {
@@ -152,24 +143,7 @@ fn lossless_balls_vanish_for_mlt_and_the_photon_mappers() {
 /// tracer's bounds; for `bdpt`, `mlt` and both photon mappers.
 #[test]
 fn rough_balls_lose_energy_for_every_integrator() {
-    for (what, material, at_least) in [
-        (
-            "rough metal 0.1",
-            "type = \"conductor\"\neta = 1\nk = 10000\nroughness = 0.1",
-            0.97,
-        ),
-        (
-            "rough metal 0.8",
-            "type = \"conductor\"\neta = 1\nk = 10000\nroughness = 0.8",
-            0.4,
-        ),
-        ("rough glass 0.3", "type = \"dielectric\"\nroughness = 0.3", 0.6),
-        (
-            "rough plastic 0.3",
-            "type = \"plastic\"\ndiffuse = 1\nroughness = 0.3",
-            0.85,
-        ),
-    ] {
+    for (what, material, at_least) in penumbra_testkit::furnace::ROUGH_BALLS {
         let scene = ball(material, EMITTING_SPHERE);
         for (integrator, runs) in [
             (IntegratorKind::Bdpt, 4),

@@ -293,17 +293,7 @@ fn ball_in_furnace(material: &str, max_depth: u32, n: u32) -> (f64, f64) {
 /// the path tracer's MIS over them.
 #[test]
 fn lossless_balls_vanish_in_a_furnace() {
-    for (what, material) in [
-        ("smooth glass", "type = \"dielectric\"\nior = 1.5"),
-        ("phong glass", "diffuse = 0\ntransmission = 1\nior = 1.5"),
-        ("white diffuse", "type = \"diffuse\"\nreflectance = 1"),
-        ("white plastic", "type = \"plastic\"\ndiffuse = 1\nior = 1.5"),
-        // (Seen from inside, the glass part must still know it is inside.)
-        (
-            "blend of glass and white",
-            "type = \"blend\"\na = \"glass\"\nb = \"white\"\nweight = 0.3",
-        ),
-    ] {
+    for (what, material) in penumbra_testkit::furnace::LOSSLESS_BALLS {
         let (mean, se) = ball_in_furnace(material, 40, 20_000);
         println!("{what}: {mean:.5} +- {se:.5}");
         assert_within_3se(what, mean, se, 1.0, 1e-3);
@@ -315,24 +305,7 @@ fn lossless_balls_vanish_in_a_furnace() {
 /// GGX loses much: 31% at normal incidence for α = 0.5, by quadrature of D G2 cos θm.)
 #[test]
 fn rough_balls_lose_energy_in_a_furnace() {
-    for (what, material, at_least) in [
-        (
-            "rough metal 0.1",
-            "type = \"conductor\"\neta = 1\nk = 10000\nroughness = 0.1",
-            0.97,
-        ),
-        (
-            "rough metal 0.8",
-            "type = \"conductor\"\neta = 1\nk = 10000\nroughness = 0.8",
-            0.4,
-        ),
-        ("rough glass 0.3", "type = \"dielectric\"\nroughness = 0.3", 0.6),
-        (
-            "rough plastic 0.3",
-            "type = \"plastic\"\ndiffuse = 1\nroughness = 0.3",
-            0.85,
-        ),
-    ] {
+    for (what, material, at_least) in penumbra_testkit::furnace::ROUGH_BALLS {
         let (mean, se) = ball_in_furnace(material, 40, 20_000);
         println!("{what}: {mean:.5} +- {se:.5}");
         assert!(mean <= 1.0 + 3.0 * se + 1e-3, "{what} gains energy: {mean} +- {se}");

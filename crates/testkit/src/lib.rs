@@ -13,6 +13,7 @@
 //! distribution (via `statrs`) at a significance level corrected for the number of tests
 //! run (Šidák).
 
+pub mod furnace;
 mod mean;
 mod quadrature;
 

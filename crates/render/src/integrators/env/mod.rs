@@ -20,6 +20,7 @@
 //! Delta lobes (mirrors, glass) are followed by one shadow ray each under every strategy.
 //! Only the environment lights the surfaces; other lights are ignored, emitters are seen.
 
+mod resample;
 mod smc;
 
 use super::nee::Shading;
@@ -178,52 +179,38 @@ impl EnvDirect {
     fn reflected(&self, scene: &Scene, t: &Target, sampler: &mut impl Draws, counts: &mut RayCounts) -> Rgb {
         let n = self.options.samples.max(1) as usize;
         let mut sum = Rgb::BLACK;
-        let light = |sampler: &mut dyn FnMut() -> (f32, Vec2), counts: &mut RayCounts, mis: bool| {
-            let (_, u) = sampler();
-            let Some(w) = t.draw(true, 0.0, u) else {
+        // One sample of one factor (the map's or the BSDF's), weighted against the other's
+        // density by the power heuristic when `mis`.
+        let one = |draw: &mut dyn FnMut() -> (f32, Vec2), counts: &mut RayCounts, from_map: bool, mis: bool| {
+            let (u_lobe, u) = draw();
+            let Some(w) = t.draw(from_map, u_lobe, u) else {
                 return Rgb::BLACK;
             };
             let (v, _) = t.product(w);
-            let p = t.env.pdf(w);
+            let (map, bsdf) = (|| t.env.pdf(w), || t.bsdf_pdf(w));
+            let p = if from_map { map() } else { bsdf() };
             if v.is_black() || p <= 0.0 || !t.visible(scene, w, counts) {
                 return Rgb::BLACK;
             }
-            let weight = if mis {
-                MisHeuristic::Power.weight(p, t.bsdf_pdf(w))
-            } else {
-                1.0
-            };
-            v * (weight / p)
-        };
-        let bsdf = |sampler: &mut dyn FnMut() -> (f32, Vec2), counts: &mut RayCounts, mis: bool| {
-            let (u_lobe, u) = sampler();
-            let Some(w) = t.draw(false, u_lobe, u) else {
-                return Rgb::BLACK;
-            };
-            let (v, _) = t.product(w);
-            let p = t.bsdf_pdf(w);
-            if v.is_black() || p <= 0.0 || !t.visible(scene, w, counts) {
-                return Rgb::BLACK;
-            }
-            let weight = if mis {
-                MisHeuristic::Power.weight(p, t.env.pdf(w))
-            } else {
-                1.0
+            let weight = match (mis, from_map) {
+                (false, _) => 1.0,
+                (true, true) => MisHeuristic::Power.weight(p, bsdf()),
+                (true, false) => MisHeuristic::Power.weight(p, map()),
             };
             v * (weight / p)
         };
         let mut draw = || (sampler.next_1d(), sampler.next_2d());
         match self.options.sampling {
-            EnvSampling::Light => (0..n).for_each(|_| sum += light(&mut draw, counts, false)),
-            EnvSampling::Bsdf => (0..n).for_each(|_| sum += bsdf(&mut draw, counts, false)),
+            EnvSampling::Light => (0..n).for_each(|_| sum += one(&mut draw, counts, true, false)),
+            EnvSampling::Bsdf => (0..n).for_each(|_| sum += one(&mut draw, counts, false, false)),
             EnvSampling::Mis => {
-                (0..n).for_each(|_| sum += light(&mut draw, counts, true) + bsdf(&mut draw, counts, true))
+                (0..n).for_each(|_| sum += one(&mut draw, counts, true, true) + one(&mut draw, counts, false, true))
             }
             EnvSampling::Sir | EnvSampling::Smc => {
                 let mut candidates = Vec::new();
                 let m = self.options.candidates.max(2) as usize;
                 let z = t.candidates(m, sampler, &mut candidates);
-                let picks = smc::systematic(candidates.iter().map(|c| c.2), n, sampler.next_1d());
+                let picks = resample::systematic(candidates.iter().map(|c| c.2), n, sampler.next_1d());
                 // The picks come sorted: a candidate picked r times takes one shadow ray.
                 for run in picks.chunk_by(|a, b| a == b) {
                     let (w, v, _) = candidates[run[0]];
