@@ -115,14 +115,6 @@ fn lossless_balls_vanish_for_mlt_and_the_photon_mappers() {
                 (IntegratorKind::Sppm, 4),
                 (IntegratorKind::Photon, 4),
             ] {
-                // Known defect, tracked in issue 7: multiplexed `mlt` gives each path length
-                // its share of the image through that length's chains, and the blend's long
-                // paths through the glass make lengths that no bootstrap state lit: their
-                // light is lost (0.97-0.98 here; 0.90 before lengths that were lit got a
-                // chain of their own).
-                if integrator == IntegratorKind::Mlt && what.starts_with("blend") {
-                    continue;
-                }
                 let (mean, se) = mean_and_se(&scene, integrator, 8, runs);
                 println!("{integrator:?}: {what} in the {place}: {mean:.5} ± {se:.5}");
                 // (The cap is 2%: `mlt`'s standard error through the glass is 0.5% at these

@@ -42,15 +42,23 @@ impl Integrator for Bdpt {
         counts: &mut RayCounts,
         splats: &mut Vec<Splat>,
     ) -> Rgb {
-        self.sample(scene, ray, sampler, counts, splats, None)
+        self.sample(scene, ray, sampler, counts, splats, PerLength::default())
     }
+}
+
+/// What a bidirectional sample does per path length (segments, from 1).
+#[derive(Default)]
+pub(crate) struct PerLength<'a> {
+    /// Adds the luminance each path length brings to `sums[segments - 1]`.
+    pub sums: Option<&'a mut [f64]>,
+    /// Only the path lengths marked here contribute (every length when `None`).
+    pub only: Option<&'a [bool]>,
 }
 
 impl Bdpt {
     /// One bidirectional sample for camera ray `ray`: the radiance of the camera sample,
-    /// with light tracing's contributions to other pixels in `splats`, and, when
-    /// `lengths` is given, the luminance each path length (segments, from 1) brings added
-    /// to `lengths[segments - 1]`. The numbers come from three streams of `sampler`: the
+    /// with light tracing's contributions to other pixels in `splats`; what `lengths`
+    /// asks per path length. The numbers come from three streams of `sampler`: the
     /// camera subpath (0), the light subpath (1), the connections (2).
     pub(crate) fn sample(
         &self,
@@ -59,8 +67,10 @@ impl Bdpt {
         sampler: &mut impl Draws,
         counts: &mut RayCounts,
         splats: &mut Vec<Splat>,
-        mut lengths: Option<&mut [f64]>,
+        lengths: PerLength<'_>,
     ) -> Rgb {
+        let PerLength { mut sums, only } = lengths;
+        let kept = |segments: usize| only.is_none_or(|only| only.get(segments - 1).copied().unwrap_or(false));
         let max_depth = self.options.max_depth as usize;
         let mut camera = Vec::with_capacity(max_depth + 1);
         let walk = self.camera_subpath(scene, ray, sampler, max_depth + 1, &mut camera, counts);
@@ -68,9 +78,9 @@ impl Bdpt {
         sampler.start_stream(1);
         self.light_subpath(scene, sampler, max_depth, &mut light, counts);
         sampler.start_stream(2);
-        let mut radiance = walk.background;
-        if let Some(l) = lengths.as_deref_mut().and_then(|l| l.get_mut(camera.len() - 1)) {
-            *l += walk.background.luminance() as f64;
+        let mut radiance = if kept(camera.len()) { walk.background } else { Rgb::BLACK };
+        if let Some(l) = sums.as_deref_mut().and_then(|l| l.get_mut(camera.len() - 1)) {
+            *l += radiance.luminance() as f64;
         }
         // Where the camera sample lies on the film, for the strategies' own images.
         let own = match (self.options.debug_strategies, scene.camera.image_plane()) {
@@ -81,7 +91,7 @@ impl Bdpt {
             // (s = 1 samples a light of its own: it needs no light subpath.)
             for s in 0..=light.len().max(1) {
                 let segments = s + t - 1;
-                if (s == 1 && t == 1) || segments < 1 || segments > max_depth {
+                if (s == 1 && t == 1) || segments < 1 || segments > max_depth || !kept(segments) {
                     continue;
                 }
                 let Some((value, weight, film)) = connect(scene, &light, &camera, s, t, sampler, counts) else {
@@ -95,7 +105,7 @@ impl Bdpt {
                     }),
                     None => radiance += value * weight,
                 }
-                if let Some(l) = lengths.as_deref_mut() {
+                if let Some(l) = sums.as_deref_mut() {
                     let y = (value * weight).luminance() as f64;
                     if y.is_finite() {
                         l[segments - 1] += y;

@@ -28,7 +28,7 @@ mod sampler;
 
 pub use sampler::PrimarySamples;
 
-use super::bdpt::Bdpt;
+use super::bdpt::{Bdpt, PerLength};
 use super::{Integrator, IntegratorOptions, PassIntegrator, RayCounts, Splat};
 use crate::driver::{Filters, Progress};
 use crate::{Film, Scene};
@@ -85,12 +85,18 @@ struct Chains {
     b_lengths: Vec<f64>,
     /// Bootstrap states that brought anything, out of how many.
     bootstrap_hits: (u64, u64),
+    /// Multiplexed: the path lengths (segments from 1) no Markov chain keeps, which the
+    /// independent chain samples when any of them has light.
+    remainder: Vec<bool>,
 }
 
 struct Chain {
     samples: PrimarySamples,
     /// Path segments (multiplexed; 0 for plain).
     segments: usize,
+    /// Not a Markov chain: every mutation is a fresh bidirectional sample (all strategies)
+    /// of the path lengths no other chain keeps ([`Chains::remainder`]), splatted as is.
+    independent: bool,
     current: Vec<Splat>,
     importance: f32,
     /// Mutations (large, small) proposed and accepted.
@@ -125,17 +131,18 @@ impl Mlt {
     }
 
     /// The contributions of the state `samples` maps to (with `segments` segments when
-    /// multiplexed), into `out`; their importance (total luminance).
+    /// multiplexed; a whole bidirectional sample of the lengths marked in `only` when
+    /// that is given), into `out`; their importance (total luminance).
     fn evaluate(
         &self,
         scene: &Scene,
         samples: &mut PrimarySamples,
-        segments: usize,
+        (segments, only): (usize, Option<&[bool]>),
         out: &mut Vec<Splat>,
         counts: &mut RayCounts,
     ) -> f32 {
         out.clear();
-        if self.options.multiplexed {
+        if self.options.multiplexed && only.is_none() {
             if let Some((value, film)) = self.bdpt.strategy_sample(scene, segments, samples, counts) {
                 out.push(Splat { film, value, layer: 0 });
             }
@@ -145,7 +152,8 @@ impl Mlt {
             let u_lens = samples.next_2d();
             let ray = scene.camera.generate_ray(film, u_lens);
             counts.camera += 1;
-            let value = self.bdpt.sample(scene, &ray, samples, counts, out, None);
+            let lengths = PerLength { sums: None, only };
+            let value = self.bdpt.sample(scene, &ray, samples, counts, out, lengths);
             out.push(Splat { film, value, layer: 0 });
         }
         out.retain(|s| s.value.is_finite() && !s.value.is_black());
@@ -171,20 +179,12 @@ impl Mlt {
             .map(|k| {
                 let mut counts = RayCounts::default();
                 let mut out = Vec::new();
-                let w = self.evaluate(scene, &mut new_samples(k), segments_of(k), &mut out, &mut counts);
+                let w = self.evaluate(scene, &mut new_samples(k), (segments_of(k), None), &mut out, &mut counts);
                 (w, counts)
             })
             .unzip();
         rays.iter().for_each(|r| counts.add(r));
         let hits = weights.iter().filter(|&&w| w > 0.0).count() as u64;
-        let Some(distribution) = Distribution1D::new(weights.iter().copied()) else {
-            return Chains {
-                chains: Vec::new(),
-                b: 0.0,
-                b_lengths: Vec::new(),
-                bootstrap_hits: (0, n as u64),
-            };
-        };
         // b is the image's mean luminance (for either form: the expected luminance a
         // uniform state brings, summed over path lengths). Estimated by bidirectional
         // samples stratified over the pixels, with every strategy weighted, not from the
@@ -195,37 +195,46 @@ impl Mlt {
         let spp = (n.div_ceil(pixels)).clamp(4, 256) as u32;
         let b_lengths = self.mean_luminance(scene, spp, counts);
         let b = b_lengths.iter().sum();
-        // The chains' starting states, in proportion to their importance; then, when
-        // multiplexed, one more for each path length that brought light in the bootstrap but
-        // drew no chain (each length's chains carry its share b_l of the image, so a length
-        // without one would lose its light: a glass-and-white blend in a furnace lost 10%).
+        // The chains' starting states, in proportion to their importance.
         let count = self.options.chains.max(1) as u64;
-        let mut starts: Vec<usize> = (0..count)
-            .map(|c| {
-                let mut pick = penumbra_core::Pcg32::new(self.seed ^ 0x9e37_79b9_7f4a_7c15, c);
-                distribution.sample(pick.next_f32()).0
-            })
-            .collect();
-        if self.options.multiplexed {
-            let mut covered = vec![false; lengths];
-            starts.iter().for_each(|&k| covered[k % lengths] = true);
-            for l in (0..lengths).filter(|&l| !covered[l]) {
-                let states = (l..n).step_by(lengths);
-                let total: f64 = states.clone().map(|k| weights[k] as f64).sum();
-                if total <= 0.0 {
-                    continue;
-                }
-                let mut pick = penumbra_core::Pcg32::new(self.seed ^ 0x7f4a_7c15_9e37_79b9, l as u64);
-                let mut u = pick.next_f32() as f64 * total;
-                let chosen = states
-                    .clone()
-                    .find(|&k| {
-                        u -= weights[k] as f64;
-                        u < 0.0 && weights[k] > 0.0
-                    })
-                    .or_else(|| states.clone().rfind(|&k| weights[k] > 0.0));
-                starts.extend(chosen);
+        let mut starts: Vec<usize> = match Distribution1D::new(weights.iter().copied()) {
+            Some(distribution) => (0..count)
+                .map(|c| {
+                    let mut pick = penumbra_core::Pcg32::new(self.seed ^ 0x9e37_79b9_7f4a_7c15, c);
+                    distribution.sample(pick.next_f32()).0
+                })
+                .collect(),
+            None => Vec::new(),
+        };
+        // Each path length (when multiplexed) carries its share b_l of the image through
+        // its own chains, so a length with light but no chain would lose it (a glass and
+        // white blend in a furnace lost 10%). A length the bootstrap lit but whose states
+        // drew no chain gets one chain more, started from one of them; the lengths that no
+        // bootstrap state lit are left to an independent chain of plain bidirectional
+        // samples (the blend lost 2% to such lengths).
+        let mut remainder = vec![true; lengths];
+        starts.iter().for_each(|&k| remainder[k % lengths] = false);
+        for l in 0..lengths {
+            let states = (l..n).step_by(lengths);
+            let total: f64 = states.clone().map(|k| weights[k] as f64).sum();
+            if !remainder[l] || total <= 0.0 {
+                continue;
             }
+            let mut pick = penumbra_core::Pcg32::new(self.seed ^ 0x7f4a_7c15_9e37_79b9, l as u64);
+            let mut u = pick.next_f32() as f64 * total;
+            let chosen = states
+                .clone()
+                .find(|&k| {
+                    u -= weights[k] as f64;
+                    u < 0.0 && weights[k] > 0.0
+                })
+                .or_else(|| states.clone().rfind(|&k| weights[k] > 0.0));
+            starts.extend(chosen);
+            remainder[l] = false;
+        }
+        if !self.options.multiplexed {
+            // The plain form's chains keep every length (`remainder` is then [no chain]).
+            remainder = vec![remainder[0]; self.max_depth];
         }
         let mut chains: Vec<Chain> = starts
             .into_par_iter()
@@ -237,27 +246,29 @@ impl Mlt {
                 let importance = self.evaluate(
                     scene,
                     &mut samples,
-                    segments_of(k),
+                    (segments_of(k), None),
                     &mut current,
                     &mut RayCounts::default(),
                 );
                 samples.reseed(self.seed ^ 0x2545_f491_4f6c_dd1d, c);
-                Chain {
-                    samples,
-                    segments: segments_of(k),
-                    current,
-                    importance,
-                    proposed: [0; 2],
-                    accepted: [0; 2],
-                }
+                Chain::new(samples, segments_of(k), current, importance)
             })
             .collect();
         chains.retain(|c| c.importance > 0.0);
+        let remainder_light: f64 = b_lengths.iter().zip(&remainder).filter(|(_, &r)| r).map(|(b, _)| b).sum();
+        if remainder_light > 0.0 {
+            // Every step large: each mutation a fresh uniform state.
+            let samples = PrimarySamples::new(self.seed ^ 0x94d0_49bb_1331_11eb, 0, self.options.sigma, 1.0);
+            let mut chain = Chain::new(samples, 0, Vec::new(), 0.0);
+            chain.independent = true;
+            chains.push(chain);
+        }
         Chains {
             chains,
             b,
             b_lengths,
             bootstrap_hits: (hits, n as u64),
+            remainder,
         }
     }
 
@@ -281,7 +292,10 @@ impl Mlt {
                         splats.clear();
                         by_length.fill(0.0);
                         self.bdpt
-                            .sample(scene, &ray, &mut sampler, &mut rays, &mut splats, Some(&mut by_length));
+                            .sample(scene, &ray, &mut sampler, &mut rays, &mut splats, PerLength {
+                                sums: Some(&mut by_length),
+                                only: None,
+                            });
                         if by_length.iter().all(|v| v.is_finite()) {
                             sums.iter_mut().zip(&by_length).for_each(|(s, v)| *s += v);
                         }
@@ -301,23 +315,48 @@ impl Mlt {
 }
 
 impl Chain {
+    fn new(samples: PrimarySamples, segments: usize, current: Vec<Splat>, importance: f32) -> Self {
+        Chain {
+            samples,
+            segments,
+            independent: false,
+            current,
+            importance,
+            proposed: [0; 2],
+            accepted: [0; 2],
+        }
+    }
+
     /// `m` mutations; the splats they make (weighted by `filter`; in units of the
-    /// normalisation, which the film's splat scale supplies).
+    /// normalisation, which the film's splat scale supplies). An independent chain samples
+    /// the path lengths marked in `remainder`.
     fn run(
         &mut self,
-        mlt: &Mlt,
-        scene: &Scene,
+        (mlt, scene): (&Mlt, &Scene),
         filter: &Filters,
-        (m, b): (usize, f32),
+        (m, b, remainder): (usize, f32, &[bool]),
         out: &mut Vec<PixelSplat>,
         counts: &mut RayCounts,
     ) {
         let size = (scene.width, scene.height);
         let mut proposal = Vec::new();
+        if self.independent {
+            // Plain Monte Carlo: each sample's contributions times `b`, which is then
+            // pixels / (normalisation × m).
+            for _ in 0..m {
+                self.samples.start_iteration();
+                mlt.evaluate(scene, &mut self.samples, (0, Some(remainder)), &mut proposal, counts);
+                for s in &proposal {
+                    filter.splat(&Splat { value: s.value * b, ..*s }, size, out);
+                }
+                self.samples.accept();
+            }
+            return;
+        }
         for _ in 0..m {
             self.samples.start_iteration();
             let large = self.samples.is_large_step() as usize;
-            let importance = mlt.evaluate(scene, &mut self.samples, self.segments, &mut proposal, counts);
+            let importance = mlt.evaluate(scene, &mut self.samples, (self.segments, None), &mut proposal, counts);
             let accept = if self.importance > 0.0 {
                 (importance / self.importance).min(1.0)
             } else {
@@ -359,7 +398,7 @@ impl Integrator for Mlt {
         counts: &mut RayCounts,
         splats: &mut Vec<Splat>,
     ) -> Rgb {
-        self.bdpt.sample(scene, ray, sampler, counts, splats, None)
+        self.bdpt.sample(scene, ray, sampler, counts, splats, PerLength::default())
     }
 
     fn passes(&self) -> Option<&dyn PassIntegrator> {
@@ -379,15 +418,26 @@ impl Integrator for Mlt {
             return Vec::new();
         };
         let (hits, n) = chains.bootstrap_hits;
+        let markov = || chains.chains.iter().filter(|c| !c.independent);
         let mut lines = vec![format!(
             "mlt: bootstrap {hits} of {n} states brought light; normalisation {:.6e}; {} chains",
             chains.b,
-            chains.chains.len()
+            markov().count()
         )];
-        let sum = |f: fn(&Chain) -> [u64; 2]| {
-            chains
-                .chains
+        if chains.chains.iter().any(|c| c.independent) {
+            let (count, light) = chains
+                .remainder
                 .iter()
+                .zip(&chains.b_lengths)
+                .filter(|(&r, _)| r)
+                .fold((0, 0.0), |(n, sum), (_, b)| (n + 1, sum + b));
+            lines.push(format!(
+                "mlt: {count} path length(s) without a chain ({:.2}% of the image's light), from plain bidirectional samples (a larger bootstrap gives them chains)",
+                100.0 * light / chains.b.max(f64::MIN_POSITIVE)
+            ));
+        }
+        let sum = |f: fn(&Chain) -> [u64; 2]| {
+            markov()
                 .map(f)
                 .fold([0u64; 2], |a, b| [a[0] + b[0], a[1] + b[1]])
         };
@@ -400,15 +450,13 @@ impl Integrator for Mlt {
             rate(accepted[0], proposed[0]),
             rate(accepted[1], proposed[1])
         ));
-        let stuck = chains
-            .chains
-            .iter()
+        let stuck = markov()
             .filter(|c| c.proposed[1] >= 100 && c.accepted[1] * 100 < c.proposed[1])
             .count();
         if stuck > 0 {
             lines.push(format!(
                 "warning: mlt: {stuck} of {} chains accepted fewer than 1% of their small steps: they may be stuck on a few bright paths (more chains, a larger large-step probability or more bootstrap samples help)",
-                chains.chains.len()
+                markov().count()
             ));
         }
         lines
@@ -439,7 +487,7 @@ impl PassIntegrator for Mlt {
         let share = |c: usize| pixels / n + usize::from(c < pixels % n);
         let mut scales = vec![0.0f64; chains.b_lengths.len()];
         if self.options.multiplexed {
-            for (c, chain) in chains.chains.iter().enumerate() {
+            for (c, chain) in chains.chains.iter().enumerate().filter(|(_, c)| !c.independent) {
                 scales[chain.segments - 1] += share(c) as f64;
             }
             for (k, m) in scales.iter_mut().enumerate() {
@@ -451,7 +499,7 @@ impl PassIntegrator for Mlt {
             }
         }
         let scales: Vec<f32> = scales.iter().map(|&x| x as f32).collect();
-        let scales = &scales;
+        let (scales, b, remainder) = (&scales, chains.b, &chains.remainder[..]);
         for (c0, chunk) in chains.chains.chunks_mut(CHAIN_CHUNK).enumerate() {
             let results: Vec<(Vec<PixelSplat>, RayCounts)> = chunk
                 .par_iter_mut()
@@ -461,8 +509,12 @@ impl PassIntegrator for Mlt {
                     let c = c0 * CHAIN_CHUNK + i;
                     let m = share(c);
                     let (mut out, mut rays) = (Vec::new(), RayCounts::default());
-                    let scale = scales.get(chain.segments.wrapping_sub(1)).copied().unwrap_or(1.0);
-                    chain.run(self, scene, filter, (m, scale), &mut out, &mut rays);
+                    let scale = if chain.independent {
+                        (pixels as f64 / (b * m.max(1) as f64)) as f32
+                    } else {
+                        scales.get(chain.segments.wrapping_sub(1)).copied().unwrap_or(1.0)
+                    };
+                    chain.run((self, scene), filter, (m, scale, remainder), &mut out, &mut rays);
                     progress.advance(m as u64, rays.total());
                     (out, rays)
                 })
