@@ -78,7 +78,11 @@ impl Bdpt {
         sampler.start_stream(1);
         self.light_subpath(scene, sampler, max_depth, &mut light, counts);
         sampler.start_stream(2);
-        let mut radiance = if kept(camera.len()) { walk.background } else { Rgb::BLACK };
+        let mut radiance = if kept(camera.len()) {
+            walk.background
+        } else {
+            Rgb::BLACK
+        };
         if let Some(l) = sums.as_deref_mut().and_then(|l| l.get_mut(camera.len() - 1)) {
             *l += radiance.luminance() as f64;
         }

@@ -179,7 +179,13 @@ impl Mlt {
             .map(|k| {
                 let mut counts = RayCounts::default();
                 let mut out = Vec::new();
-                let w = self.evaluate(scene, &mut new_samples(k), (segments_of(k), None), &mut out, &mut counts);
+                let w = self.evaluate(
+                    scene,
+                    &mut new_samples(k),
+                    (segments_of(k), None),
+                    &mut out,
+                    &mut counts,
+                );
                 (w, counts)
             })
             .unzip();
@@ -214,10 +220,10 @@ impl Mlt {
         // samples (the blend lost 2% to such lengths).
         let mut remainder = vec![true; lengths];
         starts.iter().for_each(|&k| remainder[k % lengths] = false);
-        for l in 0..lengths {
+        for (l, unkept) in remainder.iter_mut().enumerate() {
             let states = (l..n).step_by(lengths);
             let total: f64 = states.clone().map(|k| weights[k] as f64).sum();
-            if !remainder[l] || total <= 0.0 {
+            if !*unkept || total <= 0.0 {
                 continue;
             }
             let mut pick = penumbra_core::Pcg32::new(self.seed ^ 0x7f4a_7c15_9e37_79b9, l as u64);
@@ -230,7 +236,7 @@ impl Mlt {
                 })
                 .or_else(|| states.clone().rfind(|&k| weights[k] > 0.0));
             starts.extend(chosen);
-            remainder[l] = false;
+            *unkept = false;
         }
         if !self.options.multiplexed {
             // The plain form's chains keep every length (`remainder` is then [no chain]).
@@ -255,7 +261,12 @@ impl Mlt {
             })
             .collect();
         chains.retain(|c| c.importance > 0.0);
-        let remainder_light: f64 = b_lengths.iter().zip(&remainder).filter(|(_, &r)| r).map(|(b, _)| b).sum();
+        let remainder_light: f64 = b_lengths
+            .iter()
+            .zip(&remainder)
+            .filter(|(_, &r)| r)
+            .map(|(b, _)| b)
+            .sum();
         if remainder_light > 0.0 {
             // Every step large: each mutation a fresh uniform state.
             let samples = PrimarySamples::new(self.seed ^ 0x94d0_49bb_1331_11eb, 0, self.options.sigma, 1.0);
@@ -291,11 +302,17 @@ impl Mlt {
                         rays.camera += 1;
                         splats.clear();
                         by_length.fill(0.0);
-                        self.bdpt
-                            .sample(scene, &ray, &mut sampler, &mut rays, &mut splats, PerLength {
+                        self.bdpt.sample(
+                            scene,
+                            &ray,
+                            &mut sampler,
+                            &mut rays,
+                            &mut splats,
+                            PerLength {
                                 sums: Some(&mut by_length),
                                 only: None,
-                            });
+                            },
+                        );
                         if by_length.iter().all(|v| v.is_finite()) {
                             sums.iter_mut().zip(&by_length).for_each(|(s, v)| *s += v);
                         }
@@ -347,7 +364,14 @@ impl Chain {
                 self.samples.start_iteration();
                 mlt.evaluate(scene, &mut self.samples, (0, Some(remainder)), &mut proposal, counts);
                 for s in &proposal {
-                    filter.splat(&Splat { value: s.value * b, ..*s }, size, out);
+                    filter.splat(
+                        &Splat {
+                            value: s.value * b,
+                            ..*s
+                        },
+                        size,
+                        out,
+                    );
                 }
                 self.samples.accept();
             }
@@ -398,7 +422,8 @@ impl Integrator for Mlt {
         counts: &mut RayCounts,
         splats: &mut Vec<Splat>,
     ) -> Rgb {
-        self.bdpt.sample(scene, ray, sampler, counts, splats, PerLength::default())
+        self.bdpt
+            .sample(scene, ray, sampler, counts, splats, PerLength::default())
     }
 
     fn passes(&self) -> Option<&dyn PassIntegrator> {
@@ -436,11 +461,7 @@ impl Integrator for Mlt {
                 100.0 * light / chains.b.max(f64::MIN_POSITIVE)
             ));
         }
-        let sum = |f: fn(&Chain) -> [u64; 2]| {
-            markov()
-                .map(f)
-                .fold([0u64; 2], |a, b| [a[0] + b[0], a[1] + b[1]])
-        };
+        let sum = |f: fn(&Chain) -> [u64; 2]| markov().map(f).fold([0u64; 2], |a, b| [a[0] + b[0], a[1] + b[1]]);
         let (proposed, accepted) = (sum(|c| c.proposed), sum(|c| c.accepted));
         let rate = |a: u64, p: u64| if p > 0 { 100.0 * a as f64 / p as f64 } else { 0.0 };
         lines.push(format!(
