@@ -119,6 +119,33 @@ fn strategies_agree_under_a_turning_sky() {
     }
 }
 
+/// smc's first frame is unbiased (resampling gives (Z, particle) pairs with E[Z h] = ∫ p h
+/// for any h, and Metropolis moves that leave p invariant keep that; the moves' own
+/// chi-square test is in env/smc.rs): the image mean of the glossy scene's first frame
+/// matches 256-spp `mis` within 4 standard errors of the per-pixel differences, without
+/// the slack the later frames need.
+#[test]
+fn smc_first_frame_is_unbiased() {
+    let path = repo().join("scenes/glossy-env.toml");
+    let file = SourceFile::new(&path, std::fs::read_to_string(&path).unwrap());
+    let mut desc = penumbra::scene::formats::native::read(&file).unwrap();
+    (desc.render.width, desc.render.height) = (40, 30);
+    let reference = frames(&desc, EnvSampling::Mis, 256, 0..1).remove(0);
+    let image = frames(&desc, EnvSampling::Smc, 16, 0..1).remove(0);
+    let difference: Vec<f64> = image.iter().zip(&reference).map(|(a, b)| a - b).collect();
+    let (d, se) = mean_and_se(&difference);
+    let (expected, _) = mean_and_se(&reference);
+    println!(
+        "smc, first frame: {:.5} ± {se:.5} (reference {expected:.5})",
+        expected + d
+    );
+    assert!(
+        d.abs() < 4.0 * se,
+        "smc, first frame: {} ± {se}, reference {expected}",
+        expected + d
+    );
+}
+
 /// `--frames 2..4` writes OUTPUT_0002 and OUTPUT_0003 (and not 0004), each a different
 /// image (the sky turns); bad ranges are refused.
 #[test]
@@ -155,4 +182,45 @@ fn frames_write_numbered_images() {
     let bad = penumbra(dir.path(), &["render", scene, "--frames", "4..2"]);
     assert!(!bad.status.success());
     assert!(text(&bad.stderr).contains("holds no frames"), "{}", text(&bad.stderr));
+}
+
+/// `smc` keeps particles for only as many passes as fit in `--smc-memory`: at 128×96 and
+/// 4 particles a pass's particles take 0.94 MiB, so 1 MiB keeps the first of 4 passes, and
+/// in the second frame the other three quarters of the pixel samples start afresh (with
+/// 512 MiB none do); 0 MiB keeps none.
+#[test]
+fn smc_particles_stay_within_their_memory() {
+    let text = std::fs::read_to_string(repo().join("scenes/glossy-env.toml")).unwrap();
+    let mut desc = penumbra::scene::formats::native::read(&SourceFile::new(
+        repo().join("scenes/glossy-env.toml").to_str().unwrap(),
+        text,
+    ))
+    .unwrap();
+    desc.render.integrator = IntegratorKind::Env;
+    desc.render.env.sampling = EnvSampling::Smc;
+    (desc.render.width, desc.render.height, desc.render.spp) = (128, 96, 4);
+    for (mib, kept) in [(512, 4u64), (1, 1), (0, 0)] {
+        desc.render.env.memory_mib = mib;
+        let integrator = penumbra::integrator(&desc, false);
+        for f in 0..2 {
+            penumbra::render_with(&desc.at_frame(f), integrator.as_ref(), RenderControl::default()).unwrap();
+        }
+        let report = integrator.report().join("\n");
+        // "... accepted; F of T pixel samples started afresh"
+        let counts: Vec<u64> = report
+            .split("accepted; ")
+            .nth(1)
+            .and_then(|r| r.split(" pixel samples").next())
+            .map(|r| r.split(" of ").map(|n| n.parse().unwrap()).collect())
+            .unwrap_or_default();
+        let (fresh, total) = (counts[0], counts[1]);
+        let expected = total * (4 - kept) / 4;
+        println!("{mib} MiB: {fresh} of {total} afresh (expected about {expected})");
+        assert!(fresh.abs_diff(expected) <= total / 50, "{mib} MiB: {report}");
+        assert_eq!(
+            report.contains(&format!("particles of {kept} of 4 passes")),
+            kept < 4,
+            "{report}"
+        );
+    }
 }

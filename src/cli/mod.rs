@@ -192,6 +192,10 @@ pub struct RenderArgs {
     /// `env` with smc: Metropolis moves per particle per frame [default: 4].
     #[arg(long, value_parser = clap::value_parser!(u32).range(0..=1024))]
     pub smc_moves: Option<u32>,
+    /// `env` with smc: memory the particles carried to the next frame may take, in MiB;
+    /// the pixel samples of passes beyond it start afresh in each frame [default: 512].
+    #[arg(long, value_name = "MIB", value_parser = clap::value_parser!(u32).range(0..=1 << 20))]
+    pub smc_memory: Option<u32>,
 }
 
 fn parse_positive(s: &str) -> Result<f32, String> {

@@ -104,6 +104,7 @@ fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) -> Result<(), Failur
     r.env.samples = args.env_samples.unwrap_or(r.env.samples);
     r.env.candidates = args.env_candidates.unwrap_or(r.env.candidates);
     r.env.moves = args.smc_moves.unwrap_or(r.env.moves);
+    r.env.memory_mib = args.smc_memory.unwrap_or(r.env.memory_mib);
     if let Some((w, h)) = args.res {
         r.width = w;
         r.height = h;

@@ -72,6 +72,9 @@ pub struct EnvOptions {
     /// `smc`: Metropolis moves per particle per frame (4 followed the turning sky better
     /// than 2: error in the eighth frame 5.5e-3 against 1.4e-2).
     pub moves: u32,
+    /// `smc`: the memory its particles may take (MiB): they are kept, to be carried to
+    /// the next frame, for as many passes as fit; later passes start afresh in each frame.
+    pub memory_mib: u32,
 }
 
 impl Default for EnvOptions {
@@ -81,6 +84,7 @@ impl Default for EnvOptions {
             samples: 4,
             candidates: 8,
             moves: 4,
+            memory_mib: 512,
         }
     }
 }
