@@ -46,6 +46,8 @@ pub fn read(path: &Path) -> Result<SceneDesc> {
         files: Vec::new(),
         warned: BTreeMap::new(),
         default_material: None,
+        exposure_time: 1.0,
+        iso: 100.0,
     };
     r.desc.render = RenderDesc {
         width: 1280,
@@ -120,6 +122,17 @@ struct Reader {
     warned: BTreeMap<String, String>,
     /// The grey diffuse of shapes without a material, once made.
     default_material: Option<usize>,
+    /// pbrt-v4's imaging ratio, exposure time × ISO / 100 (the camera's `shutterclose` -
+    /// `shutteropen` and the film's `iso`): its sensor scales the image by it; we scale
+    /// every emitter instead, which is the same for light transport that is linear.
+    exposure_time: f32,
+    iso: f32,
+}
+
+impl Reader {
+    fn imaging_ratio(&self) -> f32 {
+        self.exposure_time * self.iso / 100.0
+    }
 }
 
 /// A cursor over one file's tokens.

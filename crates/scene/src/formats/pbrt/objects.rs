@@ -94,6 +94,14 @@ pub fn camera(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Result<
     let fov = p.float("fov", 90.0)?;
     let lens = p.float("lensradius", 0.0)?;
     let focus = p.float("focaldistance", 1e6)?;
+    let (open, close) = (p.float("shutteropen", 0.0)?, p.float("shutterclose", 1.0)?);
+    if !(close >= open) {
+        return Err(SceneError::at(
+            here,
+            format!("`shutterclose` ({close}) is before `shutteropen` ({open})"),
+        ));
+    }
+    r.exposure_time = close - open;
     let projection = CameraKind::Perspective {
         fov,
         fov_axis: FovAxis::Smaller,
@@ -123,6 +131,10 @@ pub fn setting(r: &mut Reader, directive: &str, kind: &str, p: &Params, here: Lo
             r.desc.render.width = size("xresolution", 1280)?;
             r.desc.render.height = size("yresolution", 720)?;
             p.string("filename")?;
+            r.iso = match p.float("iso", 100.0)? {
+                iso if iso > 0.0 && iso.is_finite() => iso,
+                iso => return Err(SceneError::at(here, format!("`iso` must be positive, found {iso}"))),
+            };
         }
         "Sampler" => {
             r.desc.render.sampler = match kind {
@@ -433,10 +445,10 @@ fn scaled(t: Texture, factor: f32) -> Texture {
 }
 
 /// A light's spectrum times `scale` (pbrt scales lights given as spectra to unit
-/// luminance first; `rgb` ones stay as given).
-fn emitted(p: &Params, name: &str) -> Result<Rgb> {
+/// luminance first; `rgb` ones stay as given) and the imaging ratio.
+fn emitted(r: &Reader, p: &Params, name: &str) -> Result<Rgb> {
     let c = color(p, name, ColorKind::Illuminant)?.unwrap_or(Rgb::WHITE);
-    Ok(c * p.float("scale", 1.0)?)
+    Ok(c * p.float("scale", 1.0)? * r.imaging_ratio())
 }
 
 pub fn light(r: &mut Reader, kind: &str, p: &Params, file: &SourceFile, here: Location) -> Result<()> {
@@ -452,7 +464,7 @@ pub fn light(r: &mut Reader, kind: &str, p: &Params, file: &SourceFile, here: Lo
             let position = ctm.point(point("from", Vec3::ZERO)?);
             r.desc.lights.push(LightDesc::Point {
                 position,
-                intensity: emitted(p, "I")?,
+                intensity: emitted(r, p, "I")?,
             });
         }
         "spot" => {
@@ -462,7 +474,7 @@ pub fn light(r: &mut Reader, kind: &str, p: &Params, file: &SourceFile, here: Lo
             r.desc.lights.push(LightDesc::Spot {
                 position: from,
                 target: to,
-                intensity: emitted(p, "I")?,
+                intensity: emitted(r, p, "I")?,
                 cone_angle: cone,
                 falloff_start: (cone - delta).clamp(0.0, cone),
             });
@@ -474,7 +486,7 @@ pub fn light(r: &mut Reader, kind: &str, p: &Params, file: &SourceFile, here: Lo
             }
             r.desc.lights.push(LightDesc::Directional {
                 direction,
-                irradiance: emitted(p, "L")?,
+                irradiance: emitted(r, p, "L")?,
             });
         }
         "infinite" => {
@@ -494,11 +506,11 @@ pub fn light(r: &mut Reader, kind: &str, p: &Params, file: &SourceFile, here: Lo
                     }
                     (
                         EnvironmentSource::Octahedral(path),
-                        Rgb::splat(p.float("scale", 1.0)?),
+                        Rgb::splat(p.float("scale", 1.0)? * r.imaging_ratio()),
                         r.state.ctm,
                     )
                 }
-                None => (EnvironmentSource::Constant, emitted(p, "L")?, Transform::IDENTITY),
+                None => (EnvironmentSource::Constant, emitted(r, p, "L")?, Transform::IDENTITY),
             };
             r.desc.environment = Some(EnvironmentDesc {
                 source,
@@ -534,7 +546,7 @@ pub fn area_light(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Res
         );
     }
     let e = Emission {
-        radiance: emitted(p, "L")?,
+        radiance: emitted(r, p, "L")?,
         two_sided: p.bool("twosided", false)?,
         texture: None,
     };

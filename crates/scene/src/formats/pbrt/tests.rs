@@ -262,3 +262,32 @@ fn escapes_reflectance_conductors_and_whole_spheres() {
         "{m:?}"
     );
 }
+
+/// pbrt-v4's sensor scales the image by exposure time × ISO / 100: Film `iso` 150 with the
+/// default shutter (0 to 1) makes every emitter 1.5 times brighter, and a shutter open
+/// for half the time halves it again; a shutter that closes before it opens is an error.
+#[test]
+fn iso_and_shutter_scale_the_light() {
+    let light = "WorldBegin\nLightSource \"point\" \"rgb I\" [ 2 2 2 ]\nAttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\nShape \"sphere\"\nAttributeEnd\n";
+    for (head, ratio) in [
+        ("", 1.0),
+        ("Film \"rgb\" \"float iso\" 150\n", 1.5),
+        ("Camera \"perspective\" \"float shutteropen\" 0.25 \"float shutterclose\" 0.75\nFilm \"rgb\" \"float iso\" 150\n", 0.75),
+    ] {
+        let dir = folder(&[("a.pbrt", &format!("{head}{light}"))]);
+        let desc = read(&dir.path().join("a.pbrt")).unwrap();
+        let crate::desc::LightDesc::Point { intensity, .. } = desc.lights[0] else {
+            panic!()
+        };
+        assert!((intensity.g - 2.0 * ratio).abs() < 1e-6, "{head}: {intensity:?}");
+        let radiance = desc.shapes[0].emission.as_ref().unwrap().radiance;
+        assert!((radiance.g - ratio).abs() < 1e-6, "{head}: {radiance:?}");
+        assert!(desc.warnings.iter().all(|w| !w.contains("iso")), "{:?}", desc.warnings);
+    }
+    let dir = folder(&[(
+        "a.pbrt",
+        "Camera \"perspective\" \"float shutteropen\" 1 \"float shutterclose\" 0.5\nWorldBegin\n",
+    )]);
+    let e = read(&dir.path().join("a.pbrt")).unwrap_err().to_string();
+    assert!(e.contains("a.pbrt:1") && e.contains("shutterclose"), "{e}");
+}
