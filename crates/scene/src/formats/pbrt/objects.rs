@@ -95,7 +95,7 @@ pub fn camera(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Result<
     let lens = p.float("lensradius", 0.0)?;
     let focus = p.float("focaldistance", 1e6)?;
     let (open, close) = (p.float("shutteropen", 0.0)?, p.float("shutterclose", 1.0)?);
-    if !(close >= open) {
+    if close < open || !(close - open).is_finite() {
         return Err(SceneError::at(
             here,
             format!("`shutterclose` ({close}) is before `shutteropen` ({open})"),
