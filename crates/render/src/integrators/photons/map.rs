@@ -87,16 +87,18 @@ impl PhotonMap {
     }
 
     /// Walks the tree towards `p`, entering a far subtree only when its splitting plane
-    /// is within the current squared bound; `visit` gets each photon met, its index and its
-    /// squared distance.
+    /// is within the current squared bound (checked again when it is taken from the stack:
+    /// the bound of a k-nearest query shrinks meanwhile); `visit` gets each photon met, its
+    /// index and its squared distance.
     fn search(&self, p: Vec3, bound: impl Fn() -> f32, mut visit: impl FnMut(u32, &Photon, f32)) {
-        let mut stack = [(0u32, 0u32); STACK];
-        stack[0] = (0, self.photons.len() as u32);
+        // (range, squared distance of `p` to the plane that separates it from `p`'s side).
+        let mut stack = [(0u32, 0u32, 0f32); STACK];
+        stack[0] = (0, self.photons.len() as u32, 0.0);
         let mut top = 1;
         while top > 0 {
             top -= 1;
-            let (lo, hi) = stack[top];
-            if lo >= hi {
+            let (lo, hi, plane) = stack[top];
+            if lo >= hi || plane > bound() {
                 continue;
             }
             let mid = lo + (hi - lo) / 2;
@@ -110,11 +112,11 @@ impl PhotonMap {
                 ((mid + 1, hi), (lo, mid))
             };
             if d * d <= bound() && top < STACK {
-                stack[top] = far;
+                stack[top] = (far.0, far.1, d * d);
                 top += 1;
             }
             if top < STACK {
-                stack[top] = near;
+                stack[top] = (near.0, near.1, plane);
                 top += 1;
             }
         }
