@@ -336,6 +336,18 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
             IntegratorKind::NAMES[desc.render.integrator as usize]
         );
     }
+    // The integrators that trace passes of their own draw their numbers themselves.
+    let own_numbers = match desc.render.integrator {
+        IntegratorKind::Mlt => Some("mlt mutates primary samples of its own"),
+        IntegratorKind::Sppm => Some("sppm draws each pass's camera paths from a Sobol sequence"),
+        IntegratorKind::Env if desc.render.env.sampling == EnvSampling::Smc => {
+            Some("env with smc draws each pass's camera samples from a Sobol sequence")
+        }
+        _ => None,
+    };
+    if let (Some(why), Some(_)) = (own_numbers, &args.sampler) {
+        eprintln!("warning: --sampler does not apply: {why}");
+    }
     if desc.render.integrator == IntegratorKind::Env && desc.environment.is_none() {
         eprintln!("warning: `env` lights surfaces by the environment only, and the scene has no [environment]: only emitters seen directly will show");
     }
