@@ -5,13 +5,10 @@
         [--engine BIDIRCPU|PATHCPU] [--threads 2] [--sampler SOBOL|RANDOM]
         [--eye-depth N] [--light-depth N] [--exact-spot] [--prop "k = v"]... [--verbose]
 
-Maps the subset of pbrt-v4 used by the pbrt-veach-bidir and pbrt-caustic-glass scenes:
-the camera (`Transform`/`LookAt` + perspective `fov`), `Film` resolution, `PixelFilter`,
-`Integrator` maxdepth, `plymesh`/`trianglemesh` shapes, the materials `diffuse`,
-`dielectric`, `conductor` and `coateddiffuse`, `AreaLightSource "diffuse"` and the spot
-light. Anything else stops with a message. The conversion follows penumbra's own pbrt
-reader (crates/scene/src/formats/pbrt) so that both renderers see the same scene; the
-render settings, the EXR and the printout are scene.py's (imported from beside this file).
+Maps the subset of pbrt-v4 that pbrt-veach-bidir and pbrt-caustic-glass use, read as
+penumbra's pbrt reader (crates/scene/src/formats/pbrt) reads it; anything else stops with
+a message. Render settings, EXR and printout are scene.py's (imported from beside this
+file). README.md lists the mapping and what does not match.
 """
 import argparse
 import math
@@ -21,15 +18,17 @@ import sys
 import time
 from pathlib import Path
 
-# numpy and OpenEXR BEFORE pyluxcore (see scene.py); scene.py imports pyluxcore quietly.
+# numpy and OpenEXR BEFORE pyluxcore (see scene.py, which imports pyluxcore quietly).
 import numpy as np
 import OpenEXR  # noqa: F401
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from scene import camera_props, pyluxcore, render_config, write_exr  # noqa: E402
 
-# ---------------------------------------------------------------- the file format
-
+KNOWN = {"LookAt", "Transform", "ConcatTransform", "WorldBegin", "AttributeBegin",
+         "AttributeEnd", "NamedMaterial", "Camera", "Film", "Sampler", "Integrator",
+         "PixelFilter", "MakeNamedMaterial", "Material", "AreaLightSource", "LightSource",
+         "Shape"}   # directives mapped (each in its place: before or after WorldBegin)
 TOKEN = re.compile(r'"[^"]*"|\[|\]|#[^\n]*|[^\s\[\]"#]+')
 
 
@@ -37,8 +36,7 @@ def directives(path):
     """(name, argument tokens, line) for each directive of a pbrt file."""
     text, line, pos, cur = Path(path).read_text(), 1, 0, None
     for m in TOKEN.finditer(text):
-        line += text.count("\n", pos, m.start())
-        pos, t = m.start(), m.group()
+        line, pos, t = line + text.count("\n", pos, m.start()), m.start(), m.group()
         if t.startswith("#"):
             continue
         if re.fullmatch(r"[A-Z][A-Za-z]*", t):
@@ -56,7 +54,7 @@ def directives(path):
 def value(t):
     if t.startswith('"'):
         return {'"true"': True, '"false"': False}.get(t, t[1:-1])
-    return {"true": True, "false": False}.get(t) if t in ("true", "false") else float(t)
+    return {"true": True, "false": False}[t] if t in ("true", "false") else float(t)
 
 
 def numbers(args, n, where):
@@ -67,48 +65,39 @@ def numbers(args, n, where):
 
 
 class Params:
-    """A directive's leading string and its "type name" value lists; done() stops on
-    any parameter nobody read."""
+    """A directive's leading string (`kind`) and its "type name" value lists; done()
+    stops on any parameter that nobody read."""
 
     def __init__(self, args, where):
-        self.where, self.d, self.used, i = where, {}, set(), 0
-        self.kind = value(args[0]) if args and args[0].startswith('"') and \
-            len(args[0].split()) == 1 else None
-        i = 1 if self.kind is not None else 0
+        self.where, self.d, self.used = where, {}, set()
+        lead = bool(args) and args[0].startswith('"') and len(args[0].split()) == 1
+        self.kind, i = (value(args[0]), 1) if lead else (None, 0)
         while i < len(args):
             decl = args[i].strip('"').split()
             if len(decl) != 2 or i + 1 >= len(args):
                 sys.exit(f"{where}: cannot read parameter {args[i]}")
-            if args[i + 1] == "[":
-                j = args.index("]", i + 1)
-                vals, i = args[i + 2:j], j + 1
-            else:
-                vals, i = [args[i + 1]], i + 2
-            self.d[decl[1]] = (decl[0], [value(v) for v in vals])
+            j = args.index("]", i + 1) if args[i + 1] == "[" else i + 1
+            vals = args[i + 2:j] if args[i + 1] == "[" else [args[i + 1]]
+            self.d[decl[1]], i = (decl[0], [value(v) for v in vals]), j + 1
 
     def get(self, name, default=None):
         if name not in self.d:
             return default
         self.used.add(name)
-        ty, v = self.d[name]
-        if ty == "texture":
+        if self.d[name][0] == "texture":
             sys.exit(f"{self.where}: `{name}`: textures are not mapped")
-        return v
+        return self.d[name][1]
 
     def one(self, name, default):
         return self.get(name, [default])[0]
 
     def color(self, name, default, light=False):
-        """rgb, a grey float, or a blackbody (unit luminance); for lights an rgb is taken
-        as is and a blackbody is normalised to luminance 1, as pbrt-v4 and penumbra do."""
-        v = self.get(name)
+        """rgb, a grey float (not for lights) or a blackbody (unit luminance)."""
+        v, ty = self.get(name), self.d.get(name, [None])[0]
         if v is None:
             return list(default)
-        ty = self.d[name][0]
-        if ty in ("rgb", "color") and len(v) == 3:
-            return [float(x) for x in v]
-        if ty == "float" and len(v) == 1 and not light:
-            return [float(v[0])] * 3
+        if ty in ("rgb", "color") and len(v) == 3 or ty == "float" and len(v) == 1 and not light:
+            return [float(x) for x in v] * (3 if ty == "float" else 1)
         if ty == "blackbody" and len(v) == 1:
             return blackbody(v[0]).tolist()
         sys.exit(f"{self.where}: `{ty} {name}` is not mapped (rgb, float or blackbody)")
@@ -120,18 +109,14 @@ class Params:
 
 
 def blackbody(kelvin):
-    """Linear sRGB of unit luminance of a blackbody, as penumbra's pbrt reader computes it
-    (params.rs blackbody(): Planck's law at 360..830 nm, 1 nm steps, through the Wyman-
-    Sloan-Shirley fit of the CIE 1931 matching functions and the XYZ -> sRGB matrix);
-    pbrt-v4 divides a light's spectrum by its luminance (SpectrumToPhotometric)."""
+    """Linear sRGB of unit luminance (pbrt-v4 divides a light's spectrum by its
+    luminance), computed as penumbra's reader does (params.rs blackbody())."""
     nm = np.arange(360.0, 831.0)
-    lam = nm * 1e-9
-    c, h, kb = 299792458.0, 6.62607015e-34, 1.380649e-23
+    lam, c, h, kb = nm * 1e-9, 299792458.0, 6.62607015e-34, 1.380649e-23
     planck = 2 * h * c * c / (lam ** 5 * (np.exp(h * c / (lam * kb * kelvin)) - 1))
 
     def lobe(mean, a, b):
-        t = (nm - mean) * np.where(nm < mean, a, b)
-        return np.exp(-0.5 * t * t)
+        return np.exp(-0.5 * ((nm - mean) * np.where(nm < mean, a, b)) ** 2)
     xyz = np.array([
         1.056 * lobe(599.8, .0264, .0323) + .362 * lobe(442.0, .0624, .0374)
         - .065 * lobe(501.1, .0490, .0382),
@@ -143,51 +128,45 @@ def blackbody(kelvin):
 
 
 def read_ply(path):
-    """Positions, normals (or None) and triangles of a binary little-endian PLY."""
+    """Positions, normals (or None) and triangles of a binary little-endian PLY of
+    all-triangle or all-quad faces."""
     data = Path(path).read_bytes()
     end = data.index(b"end_header\n") + len(b"end_header\n")
     types = {"float": "<f4", "float32": "<f4", "double": "<f8", "uchar": "u1",
              "uint8": "u1", "int": "<i4", "int32": "<i4", "uint": "<u4", "uint32": "<u4"}
     elems = []
-    for line in data[:end].decode().splitlines():
-        t = line.split()
+    for t in (line.split() for line in data[:end].decode().splitlines()):
         if t[:1] == ["format"] and t[1] != "binary_little_endian":
             sys.exit(f"{path}: only binary_little_endian PLY is mapped")
         if t[:1] == ["element"]:
             elems.append((t[1], int(t[2]), []))
         if t[:1] == ["property"]:
             elems[-1][2].append(t[1:])
-    pos, out = end, {}
+    pos, v, f = end, None, None
     for name, n, props in elems:
         if name == "vertex":
-            names = [p[-1] for p in props]
-            if not set(names) <= {"x", "y", "z", "nx", "ny", "nz", "u", "v", "s", "t"}:
-                sys.exit(f"{path}: vertex properties {names}: only x y z nx ny nz u v mapped")
+            if not {p[-1] for p in props} <= set("x y z nx ny nz u v s t".split()):
+                sys.exit(f"{path}: vertex properties other than x y z nx ny nz u v")
             dt = np.dtype([(p[1], types[p[0]]) for p in props])
-            out["v"] = np.frombuffer(data, dt, n, pos)
+            v = np.frombuffer(data, dt, n, pos)
         elif name == "face" and len(props) == 1 and props[0][0] == "list":
-            count = np.frombuffer(data, types[props[0][1]], 1, pos)[0]
-            dt = np.dtype([("n", types[props[0][1]]), ("i", types[props[0][2]], count)])
+            k = int(np.frombuffer(data, types[props[0][1]], 1, pos)[0])
+            dt = np.dtype([("n", types[props[0][1]]), ("i", types[props[0][2]], k)])
             f = np.frombuffer(data, dt, n, pos)
-            if count not in (3, 4) or (f["n"] != count).any():
+            if k not in (3, 4) or (f["n"] != k).any():
                 sys.exit(f"{path}: faces must be all triangles or all quads")
-            out["f"] = f["i"] if count == 3 else np.concatenate([f["i"][:, [0, 1, 2]],
-                                                                 f["i"][:, [0, 2, 3]]])
+            f = f["i"] if k == 3 else np.concatenate([f["i"][:, [0, 1, 2]], f["i"][:, [0, 2, 3]]])
         else:
             sys.exit(f"{path}: PLY element {name!r} is not mapped")
         pos += dt.itemsize * n
-    v = out["v"]
     p = np.stack([v["x"], v["y"], v["z"]], -1).astype(float)
     nrm = np.stack([v["nx"], v["ny"], v["nz"]], -1).astype(float) if "nx" in v.dtype.names else None
-    return p, nrm, out["f"].astype(np.int64)
+    return p, nrm, f.astype(np.int64)
 
-
-# ---------------------------------------------------------------- pbrt -> LuxCore
 
 def look_at(eye, look, up):
     """pbrt's LookAt: camera-from-world, the camera's x axis cross(up, dir)."""
-    eye, d = np.array(eye), np.array(look) - np.array(eye)
-    d /= np.linalg.norm(d)
+    d = (np.array(look) - eye) / np.linalg.norm(np.array(look) - eye)
     right = np.cross(np.array(up) / np.linalg.norm(up), d)
     right /= np.linalg.norm(right)
     m = np.eye(4)
@@ -198,15 +177,12 @@ def look_at(eye, look, up):
 def roughness(p):
     """pbrt-v4's roughness as GGX alpha: sqrt when remaproughness (the default)."""
     r = p.one("roughness", 0.0)
-    u, v = p.one("uroughness", r), p.one("vroughness", r)
-    remap = p.one("remaproughness", True)
+    u, v, remap = p.one("uroughness", r), p.one("vroughness", r), p.one("remaproughness", True)
     return [math.sqrt(max(x, 0.0)) if remap else max(x, 0.0) for x in (u, v)]
 
 
 def material(kind, p):
-    """A pbrt-v4 material as LuxCore material properties. Only LuxCore's `glossy2` is
-    one-sided (the coating on the front only); matte, metal2 and glass reflect on both
-    sides like pbrt's BSDFs."""
+    """A pbrt-v4 material as LuxCore material properties (README.md: the differences)."""
     if kind == "diffuse":
         m = {"type": "matte", "kd": p.color("reflectance", [0.5] * 3)}
     elif kind == "dielectric":
@@ -214,32 +190,22 @@ def material(kind, p):
         if len(eta) != 1 or not isinstance(eta[0], float) or any(roughness(p)):
             sys.exit(f"{p.where}: only smooth dielectrics with a number `eta` are mapped")
         m = {"type": "glass", "kr": [1.0] * 3, "kt": [1.0] * 3,
-             "interiorior": float(eta[0]), "exteriorior": 1.0}
+             "interiorior": eta[0], "exteriorior": 1.0}
     elif kind == "conductor":
-        # LuxCore metal2 (metal2.cpp, SchlickDistribution_* in materialdefs): with
-        # r = uroughness * vroughness, D = r / (pi (1 + (r - 1) cos^2)^2), which for
-        # u = v = alpha is exactly GGX / Trowbridge-Reitz with alpha = uroughness (same
-        # D as pbrt's TrowbridgeReitz); its masking is Schlick's G1 = cos / (cos (1 - r)
-        # + r) instead of Smith's, and anisotropy is Schlick's, not pbrt's. Fresnel: the
-        # exact conductor formula from n and k, like pbrt's FrComplex per RGB channel.
+        # metal2 (metal2.cpp; SchlickDistribution_* in materialdefs.cpp): with
+        # r = uroughness * vroughness, D = r / (pi (1 + (r - 1) cos^2)^2), i.e. GGX with
+        # alpha = uroughness for u = v: pbrt's alpha is LuxCore's uroughness. Its masking
+        # is Schlick's G1 = cos / (cos (1 - r) + r), not Smith's. Fresnel: exact, n and k.
         au, av = roughness(p)
-        if au == 0 or av == 0 or p.get("reflectance") is not None:
-            sys.exit(f"{p.where}: only rough conductors given by eta and k are mapped")
-        m = {"type": "metal2", "n": p.color("eta", [0.2, 0.92, 1.1]),
-             "k": p.color("k", [3.9, 2.45, 2.14]), "uroughness": au, "vroughness": av}
-        if "eta" not in p.d or "k" not in p.d:
-            sys.exit(f"{p.where}: a conductor without `eta` and `k` is not mapped")
+        if not (au and av) or "eta" not in p.d or "k" not in p.d:
+            sys.exit(f"{p.where}: only rough conductors with `eta` and `k` are mapped")
+        m = {"type": "metal2", "n": p.color("eta", []), "k": p.color("k", []),
+             "uroughness": au, "vroughness": av}
     elif kind == "coateddiffuse":
-        # pbrt-v4's coateddiffuse is a stochastic layered BSDF (a dielectric interface
-        # over a Lambertian base, random walk between them; a non-zero `thickness` even
-        # absorbs a little). penumbra reads it as Mitsuba's (rough)plastic: exact Fresnel
-        # GGX coating plus f_d = (1-F_i)(1-F_o) rho / (pi eta^2 (1 - F_dr,int)), whose
-        # diffuse albedo is (1 - F_i) rho. LuxCore's glossy2 is the nearest: Schlick
-        # Fresnel coating (F0 = ((eta-1)/(eta+1))^2 via `index`, ks = 1), Schlick/GGX
-        # lobe (alpha = uroughness, see conductor), plus (1 - S) kd / pi: the same albedo
-        # as penumbra's, but flat Lambertian in the outgoing angle (no (1 - F_o) fall-off
-        # at grazing angles). pbrt's own random walk is darker than both (internal
-        # reflections return to an absorbing base: about 0.40 instead of 0.61 here).
+        # glossy2: a Schlick-Fresnel GGX coating (F0 from `index`, ks = 1) over kd with
+        # (1 - S(wi.h)) kd / pi. penumbra reads coateddiffuse as Mitsuba's roughplastic
+        # (exact Fresnel, (1 - F_i)(1 - F_o) rho / (pi eta^2 (1 - F_dr))): same albedo
+        # at normal incidence, different angular shape; README.md has the numbers.
         au, av = roughness(p)
         if p.one("albedo", 0.0) != 0 or p.one("g", 0.0) != 0:
             sys.exit(f"{p.where}: a scattering coating (albedo, g) is not mapped")
@@ -254,22 +220,18 @@ def material(kind, p):
 
 
 def spot_light(name, p, ratio, exact, scene):
-    """pbrt-v4's spot: I(w) = I scale smoothstep(cos t; cos coneangle, cos(coneangle -
-    conedelta)) W/sr. LuxCore's `spot` (spotlight.cpp) emits gain color falloff / cos t
-    with falloff ((cos t - cos a) / (cos(a - delta) - cos a))^4: 1/cos t is up to +15 %
-    at 30 deg (+1.1 % on average over the caustic-glass ball, 0-16 deg off axis) and the
-    edge fades differently. --exact-spot uses a `projection` light instead, whose
-    intensity is exactly gain color map(image-plane uv) (projectionlight.cpp), with
-    pbrt's profile baked into the map; but its Illuminate() returns emission pdf 0,
-    which double-counts in BIDIRCPU (measured 1.90x), so it is PATHCPU-only."""
-    fr, to = np.array(p.get("from", [0, 0, 0]), float), np.array(p.get("to", [0, 0, 1]), float)
+    """pbrt-v4's spot: I scale smoothstep(cos t; cos coneangle, cos(coneangle - conedelta))
+    W/sr. LuxCore's `spot` differs (spotlight.cpp: I falloff^4 / cos t, see README.md);
+    --exact-spot bakes pbrt's profile into a `projection` light's map (intensity = gain
+    map, projectionlight.cpp), exact but biased in BIDIRCPU (main() refuses it there)."""
+    fr, to = p.get("from", [0.0] * 3), p.get("to", [0.0, 0.0, 1.0])
     cone, delta = p.one("coneangle", 30.0), p.one("conedelta", 5.0)
-    color = (np.array(p.color("I", [1.0] * 3, light=True)) * p.one("scale", 1.0) * ratio).tolist()
+    color = (np.array(p.color("I", [1.0] * 3, light=True)) * p.one("scale", 1.0) * ratio)
     if p.one("power", -1.0) > 0:
         sys.exit(f"{p.where}: a spot's `power` is not mapped")
     p.done()
-    props = {"position": fr.tolist(), "target": to.tolist(), "color": color,
-             "gain": [1.0] * 3, "power": 0.0, "efficency": 0.0}
+    props = {"position": fr, "target": to, "color": color.tolist(), "gain": [1.0] * 3,
+             "power": 0.0, "efficency": 0.0}   # LuxCore's spelling; 0: no normalisation
     if not exact:
         return {**props, "type": "spot", "coneangle": cone, "conedeltaangle": delta}
     n, t = 1024, math.tan(math.radians(cone))
@@ -279,20 +241,44 @@ def spot_light(name, p, ratio, exact, scene):
     s = np.clip((cos_t - c0) / max(c1 - c0, 1e-9), 0, 1)
     img = np.repeat((s * s * (3 - 2 * s)).astype(np.float32)[:, :, None], 3, 2)
     scene.DefineImageMap(f"{name}_profile", np.ascontiguousarray(img), 1.0, 3, n, n)
-    # (pyluxcore 2.11 ignores a projection light's `color`: measured; `gain` counts.)
+    # pyluxcore 2.11 ignores a projection light's `color` (measured): the colour is `gain`.
     return {**props, "type": "projection", "fov": 2 * cone, "mapfile": f"{name}_profile",
-            "gain": color, "color": [1.0] * 3}
+            "gain": color.tolist(), "color": [1.0] * 3}
+
+
+def define_shape(scene, mesh, p, path):
+    """A plymesh or trianglemesh as a LuxCore mesh `mesh`."""
+    if p.kind == "plymesh":
+        pts, nrm, tris = read_ply(Path(path).parent / p.one("filename", ""))
+    elif p.kind == "trianglemesh":
+        pts = np.reshape(p.get("P", []), (-1, 3))
+        tris = np.reshape(p.get("indices", [0, 1, 2]), (-1, 3)).astype(np.int64)
+        nrm = None if "N" not in p.d else np.reshape(p.get("N"), (-1, 3))
+        p.get("uv")  # no textures: not needed
+    else:
+        sys.exit(f"{p.where}: shape {p.kind!r} is not mapped")
+    p.done()
+    if nrm is not None:
+        # pbrt-v4 turns a triangle's geometric normal (and so an area light's front) to
+        # the side of the shading normals; LuxCore's is cross(p1-p0, p2-p0), like pbrt's
+        # without normals: rewind the triangles whose winding disagrees (none here).
+        ng = np.cross(pts[tris[:, 1]] - pts[tris[:, 0]], pts[tris[:, 2]] - pts[tris[:, 0]])
+        flip = np.einsum("ij,ij->i", ng, nrm[tris].sum(1)) < 0
+        tris[flip] = tris[flip][:, ::-1]
+    scene.DefineMesh(mesh, [tuple(v) for v in pts.tolist()], [tuple(t) for t in tris.tolist()],
+                     None if nrm is None else [tuple(v) for v in nrm.tolist()], None, None, None)
 
 
 def build(path, res, exact_spot):
-    """Read the pbrt file into a pyluxcore.Scene; returns it with the film size, max
-    depth in segments, the filter (scene.py's dict) and whether to mirror the image."""
-    scene, props = pyluxcore.Scene(), {}
-    ctm, world, depth, w, h, iso, shutter = np.eye(4), False, 5, 1280, 720, 100.0, 1.0
-    flt, cam = {"type": "gaussian", "radius": 1.5, "sigma": 0.5}, None
+    """Read the pbrt file into a pyluxcore.Scene; returns it with the film size, the max
+    depth in path segments, the filter (as scene.py takes it) and whether to mirror."""
+    scene, props, ctm, world, depth, w, h = pyluxcore.Scene(), {}, np.eye(4), False, 5, 1280, 720
+    flt, cam, iso, shutter = {"type": "gaussian", "radius": 1.5, "sigma": 0.5}, None, 100.0, 1.0
     named, state, stack, count = {}, {"mat": None, "area": None}, [], 0
     for name, args, line in directives(path):
         where = f"{path}:{line}: {name}"
+        if name not in KNOWN:
+            sys.exit(f"{where}: not mapped")
         if name in ("LookAt", "Transform", "ConcatTransform") and not world:
             if name == "LookAt":
                 ctm = ctm @ look_at(*np.reshape(numbers(args, 9, where), (3, 3)))
@@ -301,19 +287,17 @@ def build(path, res, exact_spot):
                 ctm = m if name == "Transform" else ctm @ m
             continue
         if name == "WorldBegin":
-            # pbrt-v4's sensor scales the image by its imaging ratio, exposure time
-            # (shutterclose - shutteropen) x iso / 100 (caustic-glass: 1.5); like
-            # penumbra's reader, scale every emitter by it instead.
+            # pbrt-v4's sensor scales the image by exposure time x iso / 100 (caustic-
+            # glass: 1.5); penumbra's reader scales every emitter by it: so do we.
             world, ctm, ratio = True, np.eye(4), shutter * iso / 100.0
             continue
-        if name == "AttributeBegin" and world:
-            stack.append(dict(state))
-            continue
-        if name == "AttributeEnd" and world and stack:
-            state = stack.pop()
-            continue
-        if name == "NamedMaterial" and world:
-            state["mat"] = named.get(value(args[0])) or sys.exit(f"{where}: unknown name")
+        if name in ("AttributeBegin", "AttributeEnd", "NamedMaterial") and world:
+            if name == "AttributeBegin":
+                stack.append(dict(state))
+            elif name == "AttributeEnd":
+                state = stack.pop() if stack else sys.exit(f"{where}: unbalanced")
+            else:
+                state["mat"] = named.get(value(args[0])) or sys.exit(f"{where}: unknown name")
             continue
         p = Params(args, where)
         if name == "Camera" and not world:
@@ -328,39 +312,35 @@ def build(path, res, exact_spot):
             w, h = int(p.one("xresolution", 1280)), int(p.one("yresolution", 720))
             iso = p.one("iso", 100.0)
             p.done(ignore=("filename",))  # ours is OUT.exr
-        elif name == "Sampler" and not world:
-            pass  # a render hint: LuxCore's sampler is --sampler, the budget SECONDS
-        elif name == "Integrator" and not world:
-            # Only maxdepth: the algorithm is --engine. pbrt's maxdepth counts bounces,
-            # penumbra's max_depth (scene.py's argument) path segments: +1, as penumbra's
-            # reader does (objects.rs). Default 5.
-            depth = int(p.one("maxdepth", 5))
+        elif name in ("Sampler", "Integrator") and not world:
+            # Render hints: the sampler is --sampler, the algorithm --engine. pbrt's
+            # maxdepth (default 5) counts bounces, scene.py's max_depth path segments:
+            # + 1, as penumbra's reader does.
+            depth = int(p.one("maxdepth", 5)) if name == "Integrator" else depth
         elif name == "PixelFilter" and not world:
-            r = max(p.one("xradius", None) or 0, p.one("yradius", None) or 0)
+            r = max(p.one("xradius", 0.0), p.one("yradius", 0.0))
             if p.kind == "box":
                 flt = {"type": "box", "radius": r or 0.5}
             elif p.kind == "gaussian":
                 flt = {"type": "gaussian", "radius": r or 1.5, "sigma": p.one("sigma", 0.5)}
             elif p.kind == "triangle":
-                # LuxCore has no tent (its filters: NONE, BOX, GAUSSIAN, MITCHELL,
-                # MITCHELL_SS, BLACKMANHARRIS, SINC, CATMULLROM). Its GAUSSIAN of the
-                # same radius r, exp(-a x^2) - exp(-a r^2) with a = 1.65 / r^2, is the
-                # least-squares fit to the tent (normalised profiles differ by 5.5 % in
-                # L2, variance 0.161 r^2 against the tent's 0.167 r^2; Blackman-Harris
-                # of radius 1.53 r fits a little worse, 6.0 %). scene.py takes sigma.
+                # LuxCore has no tent. Its GAUSSIAN of the same radius r, exp(-a x^2) -
+                # exp(-a r^2), is the least-squares fit at a = 1.65 / r^2 (README.md).
                 r = r or 2.0
                 flt = {"type": "gaussian", "radius": r, "sigma": r / math.sqrt(3.3)}
             else:
                 sys.exit(f"{where}: filter {p.kind!r} is not mapped")
             p.done()
         elif name in ("MakeNamedMaterial", "Material") and world:
+            count += 1
+            mat = f"mat{count}"
             kind = p.one("type", None) if name == "MakeNamedMaterial" else p.kind
-            mat = f"mat{len(named)}"
             for k, v in material(kind, p).items():
                 props[f"scene.materials.{mat}.{k}"] = v
-            named[p.kind if name == "MakeNamedMaterial" else mat] = mat
             if name == "Material":
-                state["mat"] = mat
+                state["mat"] = named[mat] = mat
+            else:
+                named[p.kind] = mat
         elif name == "AreaLightSource" and world:
             if p.kind != "diffuse" or p.one("twosided", False):
                 sys.exit(f"{where}: only one-sided `diffuse` area lights are mapped")
@@ -372,35 +352,13 @@ def build(path, res, exact_spot):
             for k, v in spot_light(f"spot{count}", p, ratio, exact_spot, scene).items():
                 props[f"scene.lights.spot{count}.{k}"] = v
         elif name == "Shape" and world:
-            if p.kind == "plymesh":
-                pts, nrm, tris = read_ply(Path(path).parent / p.one("filename", ""))
-            elif p.kind == "trianglemesh":
-                pts = np.reshape(p.get("P", []), (-1, 3))
-                tris = np.reshape(p.get("indices", [0, 1, 2]), (-1, 3)).astype(np.int64)
-                nrm = p.get("N")
-                nrm = None if nrm is None else np.reshape(nrm, (-1, 3))
-                p.get("uv")  # no textures: not needed
-            else:
-                sys.exit(f"{where}: shape {p.kind!r} is not mapped")
-            p.done()
-            if nrm is not None:
-                # pbrt-v4 turns a triangle's geometric normal to the side of the
-                # interpolated shading normal; LuxCore's is cross(p1-p0, p2-p0) (as pbrt's
-                # without normals): rewind the triangles whose winding disagrees.
-                ng = np.cross(pts[tris[:, 1]] - pts[tris[:, 0]], pts[tris[:, 2]] - pts[tris[:, 0]])
-                flip = np.einsum("ij,ij->i", ng, nrm[tris].sum(1)) < 0
-                tris[flip] = tris[flip][:, ::-1]
             count += 1
-            mesh = f"mesh{count}"
-            scene.DefineMesh(mesh, [tuple(v) for v in pts.tolist()],
-                             [tuple(t) for t in tris.tolist()],
-                             None if nrm is None else [tuple(v) for v in nrm.tolist()],
-                             None, None, None)
+            define_shape(scene, f"mesh{count}", p, path)
             mat = state["mat"]
             if mat is None:  # pbrt's default material: diffuse 0.5
                 mat = named.setdefault("", "default")
-                props["scene.materials.default.type"] = "matte"
-                props["scene.materials.default.kd"] = [0.5] * 3
+                props.update({"scene.materials.default.type": "matte",
+                              "scene.materials.default.kd": [0.5] * 3})
             if state["area"] is not None:
                 # As scene.py: a copy of the surface's material that emits radiance L
                 # (no power normalisation), on the front (geometric normal) side only.
@@ -413,23 +371,21 @@ def build(path, res, exact_spot):
                              ("emission.normalizebycolor", False)):
                     props[f"scene.materials.{light}.{k}"] = v
                 mat = light
-            props[f"scene.objects.obj{count}.shape"] = mesh
+            props[f"scene.objects.obj{count}.shape"] = f"mesh{count}"
             props[f"scene.objects.obj{count}.material"] = mat
         else:
-            sys.exit(f"{where}: not mapped" + (" here" if name in (
-                "LookAt", "Transform", "ConcatTransform", "AttributeBegin",
-                "AttributeEnd", "NamedMaterial") else ""))
+            sys.exit(f"{where} {p.kind or ''}: not mapped " + ("here" if name != "LightSource"
+                                                                else "(only spot lights)"))
     if cam is None:
         sys.exit(f"{path}: no Camera")
     if res:
         w, h = map(int, res.lower().split("x"))
-    # The camera: pbrt's camera space has +z forward, +y up and +x to the image's right
-    # (left-handed). LuxCore's look-at puts cross(forward, up) to the right (as scene.py
-    # matches Mitsuba's), so if pbrt's +x is the other way (LookAt and this Transform:
-    # pbrt's x = cross(up, forward)) the image comes out mirrored and is flipped back
-    # after rendering (exact: the screen window is symmetric in x, and LuxCore's
-    # one-pixel offset, fixed in camera_props, is vertical only). pbrt's fov spans the
-    # shorter image axis, as LuxCore's fieldofview does.
+    # pbrt's camera space: +z forward, +y up, +x to the image's right. LuxCore's look-at
+    # puts cross(forward, up) on the right; where pbrt's +x is the other way (LookAt and
+    # veach-bidir's Transform: x = cross(up, forward), left-handed) the image is flipped
+    # back after rendering (exact: the screen window is symmetric in x; LuxCore's
+    # one-pixel offset, fixed by camera_props, is vertical). pbrt's fov spans the shorter
+    # image axis, as LuxCore's fieldofview does.
     c2w, fov = cam
     a = c2w[:3, :3]
     if not np.allclose(a.T @ a, np.eye(3), atol=1e-3):
@@ -463,13 +419,12 @@ def main():
     ap.add_argument("--verbose", action="store_true", help="show LuxCore's log")
     a = ap.parse_args()
     if a.exact_spot and a.engine != "PATHCPU":
+        # Its Illuminate() returns emission pdf 0, so BIDIRCPU's MIS counts direct light
+        # twice (measured 1.90x on a test plane).
         sys.exit("--exact-spot: LuxCore's projection light is biased in BIDIRCPU")
-
     pyluxcore.Init((lambda msg: print(msg, file=sys.stderr)) if a.verbose else (lambda msg: None))
     scene, w, h, max_depth, flt, mirror = build(a.scene, a.res, a.exact_spot)
-    config = render_config(scene, w, h, max_depth, a, flt)
-
-    session = pyluxcore.RenderSession(config)
+    session = pyluxcore.RenderSession(render_config(scene, w, h, max_depth, a, flt))
     t0 = time.monotonic()
     session.Start()
     while not session.HasDone():          # batch.halttime stops the engine
@@ -477,22 +432,18 @@ def main():
         session.UpdateStats()
     elapsed = time.monotonic() - t0
     session.Stop()
-
     stats = session.GetStats()
     passes = stats.Get("stats.renderengine.pass").GetInt()
     img = np.zeros((h, w, 3), dtype=np.float32)
     session.GetFilm().GetOutputFloat(pyluxcore.FilmOutputType.RGB, img)
-    img = img[::-1]                       # LuxCore's buffer has row 0 at the bottom
-    if mirror:
-        img = img[:, ::-1]
+    img = img[::-1, ::-1] if mirror else img[::-1]    # LuxCore's row 0 is the bottom
     write_exr(a.out, img)
     sps = stats.Get("stats.renderengine.total.samplesec").GetFloat()
     print(f"engine {a.engine} sampler {a.sampler} threads {a.threads} {w}x{h}: "
           f"{passes} spp in {elapsed:.2f} s ({sps / 1e6:.2f} M samples/s), "
           f"mean RGB {img.reshape(-1, 3).mean(0).round(5).tolist()} -> {a.out}")
     # pyluxcore 2.11 segfaults at interpreter teardown: leave without the finalisers.
-    sys.stdout.flush()
-    sys.stderr.flush()
+    sys.stdout.flush(), sys.stderr.flush()
     os._exit(0)
 
 
