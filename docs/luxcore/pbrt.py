@@ -12,10 +12,8 @@ file). README.md lists the mapping and what does not match.
 """
 import argparse
 import math
-import os
 import re
 import sys
-import time
 from pathlib import Path
 
 # numpy and OpenEXR BEFORE pyluxcore (see scene.py, which imports pyluxcore quietly).
@@ -23,7 +21,7 @@ import numpy as np
 import OpenEXR  # noqa: F401
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from scene import camera_props, pyluxcore, render_config, write_exr  # noqa: E402
+from scene import camera_props, pyluxcore, render_and_exit, render_config  # noqa: E402
 
 KNOWN = {"LookAt", "Transform", "ConcatTransform", "WorldBegin", "AttributeBegin",
          "AttributeEnd", "NamedMaterial", "Camera", "Film", "Sampler", "Integrator",
@@ -424,27 +422,7 @@ def main():
         sys.exit("--exact-spot: LuxCore's projection light is biased in BIDIRCPU")
     pyluxcore.Init((lambda msg: print(msg, file=sys.stderr)) if a.verbose else (lambda msg: None))
     scene, w, h, max_depth, flt, mirror = build(a.scene, a.res, a.exact_spot)
-    session = pyluxcore.RenderSession(render_config(scene, w, h, max_depth, a, flt))
-    t0 = time.monotonic()
-    session.Start()
-    while not session.HasDone():          # batch.halttime stops the engine
-        time.sleep(0.05)
-        session.UpdateStats()
-    elapsed = time.monotonic() - t0
-    session.Stop()
-    stats = session.GetStats()
-    passes = stats.Get("stats.renderengine.pass").GetInt()
-    img = np.zeros((h, w, 3), dtype=np.float32)
-    session.GetFilm().GetOutputFloat(pyluxcore.FilmOutputType.RGB, img)
-    img = img[::-1, ::-1] if mirror else img[::-1]    # LuxCore's row 0 is the bottom
-    write_exr(a.out, img)
-    sps = stats.Get("stats.renderengine.total.samplesec").GetFloat()
-    print(f"engine {a.engine} sampler {a.sampler} threads {a.threads} {w}x{h}: "
-          f"{passes} spp in {elapsed:.2f} s ({sps / 1e6:.2f} M samples/s), "
-          f"mean RGB {img.reshape(-1, 3).mean(0).round(5).tolist()} -> {a.out}")
-    # pyluxcore 2.11 segfaults at interpreter teardown: leave without the finalisers.
-    sys.stdout.flush(), sys.stderr.flush()
-    os._exit(0)
+    render_and_exit(render_config(scene, w, h, max_depth, a, flt), w, h, a, mirror)
 
 
 if __name__ == "__main__":

@@ -275,6 +275,12 @@ def main(default_scene=None):
     scene = build_scene(cfg, w, h, a.sphere_segments)
     config = render_config(scene, w, h, r.get("max_depth", 5), a, r.get("filter", {}))
 
+    render_and_exit(config, w, h, a)
+
+
+def render_and_exit(config, w, h, a, mirror=False):
+    """Renders `config` until its halt time, writes the image to a.out (row 0 at the
+    top; flipped left-right when `mirror`), prints spp, time and mean, and leaves."""
     session = pyluxcore.RenderSession(config)
     t0 = time.monotonic()
     session.Start()
@@ -289,6 +295,8 @@ def main(default_scene=None):
     img = np.zeros((h, w, 3), dtype=np.float32)
     session.GetFilm().GetOutputFloat(pyluxcore.FilmOutputType.RGB, img)
     img = img[::-1]                       # LuxCore's buffer has row 0 at the bottom
+    if mirror:
+        img = img[:, ::-1]
     write_exr(a.out, img)
     sps = stats.Get("stats.renderengine.total.samplesec").GetFloat()
     print(f"engine {a.engine} sampler {a.sampler} threads {a.threads} {w}x{h}: "
