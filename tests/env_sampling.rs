@@ -42,6 +42,13 @@ fn frames(desc: &SceneDesc, sampling: EnvSampling, spp: u32, frames: std::ops::R
         .collect()
 }
 
+/// scenes/glossy-env.toml: two balls under a turning HDR sky.
+fn glossy_env() -> SceneDesc {
+    let path = repo().join("scenes/glossy-env.toml");
+    let file = SourceFile::new(&path, std::fs::read_to_string(&path).unwrap());
+    penumbra::scene::formats::native::read(&file).unwrap()
+}
+
 /// Mean and standard error of the mean of an image's pixels (independent pixel samples:
 /// each pixel's estimate uses its own samples only, with the box filter).
 fn mean_and_se(v: &[f64]) -> (f64, f64) {
@@ -93,9 +100,7 @@ fn every_strategy_passes_the_white_furnace() {
 /// moved by a few Metropolis steps, lag the turning sky a little: about 1% measured).
 #[test]
 fn strategies_agree_under_a_turning_sky() {
-    let path = repo().join("scenes/glossy-env.toml");
-    let file = SourceFile::new(&path, std::fs::read_to_string(&path).unwrap());
-    let mut desc = penumbra::scene::formats::native::read(&file).unwrap();
+    let mut desc = glossy_env();
     (desc.render.width, desc.render.height) = (40, 30);
     let reference = frames(&desc, EnvSampling::Mis, 256, 0..4);
     for sampling in ALL {
@@ -126,9 +131,7 @@ fn strategies_agree_under_a_turning_sky() {
 /// the slack the later frames need.
 #[test]
 fn smc_first_frame_is_unbiased() {
-    let path = repo().join("scenes/glossy-env.toml");
-    let file = SourceFile::new(&path, std::fs::read_to_string(&path).unwrap());
-    let mut desc = penumbra::scene::formats::native::read(&file).unwrap();
+    let mut desc = glossy_env();
     (desc.render.width, desc.render.height) = (40, 30);
     let reference = frames(&desc, EnvSampling::Mis, 256, 0..1).remove(0);
     let image = frames(&desc, EnvSampling::Smc, 16, 0..1).remove(0);
@@ -190,12 +193,7 @@ fn frames_write_numbered_images() {
 /// 512 MiB none do); 0 MiB keeps none.
 #[test]
 fn smc_particles_stay_within_their_memory() {
-    let text = std::fs::read_to_string(repo().join("scenes/glossy-env.toml")).unwrap();
-    let mut desc = penumbra::scene::formats::native::read(&SourceFile::new(
-        repo().join("scenes/glossy-env.toml").to_str().unwrap(),
-        text,
-    ))
-    .unwrap();
+    let mut desc = glossy_env();
     desc.render.integrator = IntegratorKind::Env;
     desc.render.env.sampling = EnvSampling::Smc;
     (desc.render.width, desc.render.height, desc.render.spp) = (128, 96, 4);

@@ -21,7 +21,7 @@ import numpy as np
 import OpenEXR  # noqa: F401
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from scene import camera_props, pyluxcore, render_and_exit, render_config  # noqa: E402
+from scene import camera_props, common_args, pyluxcore, render_and_exit, render_config  # noqa: E402
 
 KNOWN = {"LookAt", "Transform", "ConcatTransform", "WorldBegin", "AttributeBegin",
          "AttributeEnd", "NamedMaterial", "Camera", "Film", "Sampler", "Integrator",
@@ -405,16 +405,9 @@ def main():
     ap.add_argument("out", help="output OpenEXR (linear RGB float)")
     ap.add_argument("--scene", required=True, help="pbrt-v4 scene file")
     ap.add_argument("--res", help="WxH, overrides the Film resolution like penumbra's")
-    ap.add_argument("--engine", default="BIDIRCPU", choices=["BIDIRCPU", "PATHCPU"])
-    ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--sampler", default="SOBOL", choices=["SOBOL", "RANDOM"])
-    ap.add_argument("--eye-depth", type=int, help="BIDIRCPU path.maxdepth override")
-    ap.add_argument("--light-depth", type=int, help="BIDIRCPU light.maxdepth override")
     ap.add_argument("--exact-spot", action="store_true",
                     help="pbrt's spot profile via a projection light (PATHCPU only)")
-    ap.add_argument("--prop", action="append", default=[], metavar='"KEY = VALUE"',
-                    help="extra LuxCore render-config property (repeatable)")
-    ap.add_argument("--verbose", action="store_true", help="show LuxCore's log")
+    common_args(ap)
     a = ap.parse_args()
     if a.exact_spot and a.engine != "PATHCPU":
         # Its Illuminate() returns emission pdf 0, so BIDIRCPU's MIS counts direct light

@@ -248,22 +248,27 @@ def write_exr(path, img):
         f.write(str(path))
 
 
+def common_args(ap):
+    """The arguments scene.py and pbrt.py share (after `seconds`, `out`, `--scene`, `--res`)."""
+    ap.add_argument("--engine", default="BIDIRCPU", choices=["BIDIRCPU", "PATHCPU"])
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--sampler", default="SOBOL", choices=["SOBOL", "RANDOM"])
+    ap.add_argument("--eye-depth", type=int, help="BIDIRCPU path.maxdepth override")
+    ap.add_argument("--light-depth", type=int, help="BIDIRCPU light.maxdepth override")
+    ap.add_argument("--prop", action="append", default=[], metavar='"KEY = VALUE"',
+                    help="extra LuxCore render-config property (repeatable)")
+    ap.add_argument("--verbose", action="store_true", help="show LuxCore's log")
+
+
 def main(default_scene=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("seconds", type=float, help="wall-clock render budget (batch.halttime)")
     ap.add_argument("out", help="output OpenEXR (linear RGB float)")
     ap.add_argument("--scene", default=default_scene, required=default_scene is None)
     ap.add_argument("--res", help="WxH, overrides [render] width/height like penumbra's")
-    ap.add_argument("--engine", default="BIDIRCPU", choices=["BIDIRCPU", "PATHCPU"])
-    ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--sampler", default="SOBOL", choices=["SOBOL", "RANDOM"])
-    ap.add_argument("--eye-depth", type=int, help="BIDIRCPU path.maxdepth override")
-    ap.add_argument("--light-depth", type=int, help="BIDIRCPU light.maxdepth override")
     ap.add_argument("--sphere-segments", type=int, default=256,
                     help="sphere tessellation: N around, N/2 from pole to pole")
-    ap.add_argument("--prop", action="append", default=[], metavar='"KEY = VALUE"',
-                    help="extra LuxCore render-config property (repeatable)")
-    ap.add_argument("--verbose", action="store_true", help="show LuxCore's log")
+    common_args(ap)
     a = ap.parse_args()
 
     pyluxcore.Init((lambda msg: print(msg, file=sys.stderr)) if a.verbose else (lambda msg: None))
