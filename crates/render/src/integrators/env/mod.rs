@@ -293,6 +293,9 @@ impl Integrator for EnvDirect {
         if self.options.sampling != EnvSampling::Smc {
             return Vec::new();
         }
-        self.state.lock().unwrap_or_else(|e| e.into_inner()).report()
+        self.state
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .report(self.options.memory_mib)
     }
 }

@@ -55,8 +55,6 @@ pub(super) struct State {
     passes: Vec<Vec<f32>>,
     /// Passes rendered in the latest render, and how many of them kept their particles.
     kept: (u32, u32),
-    /// The memory allowed (MiB), for the report.
-    memory_mib: u32,
     /// This frame's Metropolis moves (proposed, accepted) and pixel samples started afresh
     /// (of those with a surface).
     moves: [u64; 2],
@@ -119,7 +117,8 @@ impl Draws for Stream {
 }
 
 impl State {
-    pub fn report(&self) -> Vec<String> {
+    /// What the latest render did; `memory_mib` the memory its particles were allowed.
+    pub fn report(&self, memory_mib: u32) -> Vec<String> {
         let rate = |a: u64, b: u64| if b > 0 { 100.0 * a as f64 / b as f64 } else { 0.0 };
         let mut lines = vec![format!(
             "smc: render {} with these particles: {:.1}% of {} Metropolis moves accepted; {} of {} pixel samples started afresh",
@@ -132,8 +131,7 @@ impl State {
         let (passes, kept) = self.kept;
         if kept < passes {
             lines.push(format!(
-                "smc: the particles of {kept} of {passes} passes are carried to the next frame (--smc-memory {} MiB); the other pixel samples start afresh in each frame",
-                self.memory_mib
+                "smc: the particles of {kept} of {passes} passes are carried to the next frame (--smc-memory {memory_mib} MiB); the other pixel samples start afresh in each frame"
             ));
         }
         lines
@@ -284,7 +282,7 @@ impl PassIntegrator for EnvDirect {
         if index == 0 {
             (state.moves, state.fresh) = ([0; 2], [0; 2]);
         }
-        (state.kept, state.memory_mib) = ((index + 1, kept.min(index + 1)), self.options.memory_mib);
+        state.kept = (index + 1, kept.min(index + 1));
         let frame = state.frames as u64;
         let sampler = PixelSampler::new(SamplerKind::Sobol, self.seed ^ 0x5eed_f4a3, 1);
         // Per row: each pixel's radiance and filter weight, the rays, and the tallies.

@@ -85,18 +85,16 @@ struct Chains {
     b_lengths: Vec<f64>,
     /// Bootstrap states that brought anything, out of how many.
     bootstrap_hits: (u64, u64),
-    /// Multiplexed: the path lengths (segments from 1) no Markov chain keeps, which the
-    /// independent chain samples when any of them has light.
-    remainder: Vec<bool>,
 }
 
 struct Chain {
     samples: PrimarySamples,
     /// Path segments (multiplexed; 0 for plain).
     segments: usize,
-    /// Not a Markov chain: every mutation is a fresh bidirectional sample (all strategies)
-    /// of the path lengths no other chain keeps ([`Chains::remainder`]), splatted as is.
-    independent: bool,
+    /// Not a Markov chain when set: every mutation is a fresh bidirectional sample (all
+    /// strategies) of the path lengths marked here (segments from 1: those no Markov
+    /// chain keeps), splatted as is.
+    independent: Option<Vec<bool>>,
     current: Vec<Splat>,
     importance: f32,
     /// Mutations (large, small) proposed and accepted.
@@ -242,6 +240,12 @@ impl Mlt {
             // The plain form's chains keep every length (`remainder` is then [no chain]).
             remainder = vec![remainder[0]; self.max_depth];
         }
+        let remainder_light: f64 = b_lengths
+            .iter()
+            .zip(&remainder)
+            .filter(|(_, &r)| r)
+            .map(|(b, _)| b)
+            .sum();
         let mut chains: Vec<Chain> = starts
             .into_par_iter()
             .enumerate()
@@ -261,17 +265,11 @@ impl Mlt {
             })
             .collect();
         chains.retain(|c| c.importance > 0.0);
-        let remainder_light: f64 = b_lengths
-            .iter()
-            .zip(&remainder)
-            .filter(|(_, &r)| r)
-            .map(|(b, _)| b)
-            .sum();
         if remainder_light > 0.0 {
             // Every step large: each mutation a fresh uniform state.
             let samples = PrimarySamples::new(self.seed ^ 0x94d0_49bb_1331_11eb, 0, self.options.sigma, 1.0);
             let mut chain = Chain::new(samples, 0, Vec::new(), 0.0);
-            chain.independent = true;
+            chain.independent = Some(remainder);
             chains.push(chain);
         }
         Chains {
@@ -279,7 +277,6 @@ impl Mlt {
             b,
             b_lengths,
             bootstrap_hits: (hits, n as u64),
-            remainder,
         }
     }
 
@@ -336,7 +333,7 @@ impl Chain {
         Chain {
             samples,
             segments,
-            independent: false,
+            independent: None,
             current,
             importance,
             proposed: [0; 2],
@@ -345,24 +342,23 @@ impl Chain {
     }
 
     /// `m` mutations; the splats they make (weighted by `filter`; in units of the
-    /// normalisation, which the film's splat scale supplies). An independent chain samples
-    /// the path lengths marked in `remainder`.
+    /// normalisation, which the film's splat scale supplies).
     fn run(
         &mut self,
         (mlt, scene): (&Mlt, &Scene),
         filter: &Filters,
-        (m, b, remainder): (usize, f32, &[bool]),
+        (m, b): (usize, f32),
         out: &mut Vec<PixelSplat>,
         counts: &mut RayCounts,
     ) {
         let size = (scene.width, scene.height);
         let mut proposal = Vec::new();
-        if self.independent {
+        if let Some(lengths) = &self.independent {
             // Plain Monte Carlo: each sample's contributions times `b`, which is then
             // pixels / (normalisation × m).
             for _ in 0..m {
                 self.samples.start_iteration();
-                mlt.evaluate(scene, &mut self.samples, (0, Some(remainder)), &mut proposal, counts);
+                mlt.evaluate(scene, &mut self.samples, (0, Some(lengths)), &mut proposal, counts);
                 for s in &proposal {
                     filter.splat(
                         &Splat {
@@ -443,15 +439,14 @@ impl Integrator for Mlt {
             return Vec::new();
         };
         let (hits, n) = chains.bootstrap_hits;
-        let markov = || chains.chains.iter().filter(|c| !c.independent);
+        let markov = || chains.chains.iter().filter(|c| c.independent.is_none());
         let mut lines = vec![format!(
             "mlt: bootstrap {hits} of {n} states brought light; normalisation {:.6e}; {} chains",
             chains.b,
             markov().count()
         )];
-        if chains.chains.iter().any(|c| c.independent) {
-            let (count, light) = chains
-                .remainder
+        if let Some(lengths) = chains.chains.iter().find_map(|c| c.independent.as_ref()) {
+            let (count, light) = lengths
                 .iter()
                 .zip(&chains.b_lengths)
                 .filter(|(&r, _)| r)
@@ -508,7 +503,12 @@ impl PassIntegrator for Mlt {
         let share = |c: usize| pixels / n + usize::from(c < pixels % n);
         let mut scales = vec![0.0f64; chains.b_lengths.len()];
         if self.options.multiplexed {
-            for (c, chain) in chains.chains.iter().enumerate().filter(|(_, c)| !c.independent) {
+            for (c, chain) in chains
+                .chains
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.independent.is_none())
+            {
                 scales[chain.segments - 1] += share(c) as f64;
             }
             for (k, m) in scales.iter_mut().enumerate() {
@@ -520,7 +520,7 @@ impl PassIntegrator for Mlt {
             }
         }
         let scales: Vec<f32> = scales.iter().map(|&x| x as f32).collect();
-        let (scales, b, remainder) = (&scales, chains.b, &chains.remainder[..]);
+        let (scales, b) = (&scales, chains.b);
         for (c0, chunk) in chains.chains.chunks_mut(CHAIN_CHUNK).enumerate() {
             let results: Vec<(Vec<PixelSplat>, RayCounts)> = chunk
                 .par_iter_mut()
@@ -530,12 +530,12 @@ impl PassIntegrator for Mlt {
                     let c = c0 * CHAIN_CHUNK + i;
                     let m = share(c);
                     let (mut out, mut rays) = (Vec::new(), RayCounts::default());
-                    let scale = if chain.independent {
+                    let scale = if chain.independent.is_some() {
                         (pixels as f64 / (b * m.max(1) as f64)) as f32
                     } else {
                         scales.get(chain.segments.wrapping_sub(1)).copied().unwrap_or(1.0)
                     };
-                    chain.run((self, scene), filter, (m, scale, remainder), &mut out, &mut rays);
+                    chain.run((self, scene), filter, (m, scale), &mut out, &mut rays);
                     progress.advance(m as u64, rays.total());
                     (out, rays)
                 })
