@@ -583,3 +583,80 @@ fn a_gltf_camera_can_be_chosen() {
     assert_eq!(out.status.code(), Some(2));
     assert!(text(&out.stderr).contains("--camera 2: the scene defines 2 cameras (0 to 1)"));
 }
+
+/// A Mitsuba scene: a sphere made of `bsdf` under a constant sky, 16x16 pixels.
+fn sphere_of(bsdf: &str) -> String {
+    format!(
+        r#"<scene version="3.0.0">
+<sensor type="perspective"><float name="fov" value="40"/>
+<transform name="to_world"><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform>
+<film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>
+<shape type="sphere">
+{bsdf}
+</shape>
+<emitter type="constant"><rgb name="radiance" value="1"/></emitter>
+</scene>
+"#
+    )
+}
+
+/// A balanced tree of `blendbsdf`s over `n` smooth glasses of indices 1.3, 1.4, ...
+fn blended_glasses(n: usize, first: usize) -> String {
+    if n == 1 {
+        return format!(
+            r#"<bsdf type="dielectric"><float name="int_ior" value="{}"/></bsdf>"#,
+            1.3 + 0.1 * first as f32
+        );
+    }
+    let half = n / 2;
+    format!(
+        r#"<bsdf type="blendbsdf"><float name="weight" value="{}"/>{}{}</bsdf>"#,
+        (n - half) as f32 / n as f32,
+        blended_glasses(half, first),
+        blended_glasses(n - half, first + half)
+    )
+}
+
+#[test]
+fn blends_of_many_glasses_render_with_every_integrator() {
+    // Eight glasses (nine specular rays) used to panic the Whitted integrator; twenty
+    // (21 rays) drop the weakest with a warning; every integrator renders both.
+    let dir = tempfile::tempdir().unwrap();
+    for (n, warns) in [(8, false), (20, true)] {
+        std::fs::write(dir.path().join("blend.xml"), sphere_of(&blended_glasses(n, 0))).unwrap();
+        for integrator in ["whitted", "direct", "path", "bdpt", "photon"] {
+            let out = penumbra(
+                dir.path(),
+                &[
+                    "render",
+                    "blend.xml",
+                    "-o",
+                    "out.exr",
+                    "--spp",
+                    "2",
+                    "--integrator",
+                    integrator,
+                ],
+            );
+            let stderr = text(&out.stderr);
+            assert!(out.status.success(), "{n} glasses, {integrator}: {stderr}");
+            let warned = stderr.contains("distinct perfectly specular directions");
+            if integrator == "whitted" {
+                assert_eq!(warned, warns, "{n} glasses, {integrator}: {stderr}");
+            }
+        }
+    }
+    // Blends nested deeper than the renderer allows are refused with the shape's line.
+    let mut deep = blended_glasses(1, 0);
+    for _ in 0..40 {
+        deep = format!(
+            r#"<bsdf type="blendbsdf"><float name="weight" value="0.5"/>{deep}{}</bsdf>"#,
+            blended_glasses(1, 1)
+        );
+    }
+    std::fs::write(dir.path().join("deep.xml"), sphere_of(&deep)).unwrap();
+    let out = penumbra(dir.path(), &["render", "deep.xml", "-o", "out.png", "-q"]);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("deep.xml:6:") && stderr.contains("nests"), "{stderr}");
+}

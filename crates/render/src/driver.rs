@@ -162,6 +162,14 @@ pub fn render(
     );
     result.stats.notes = integrator.report();
     result.stats.rays.add(&prepared);
+    let overflows = result.stats.rays.specular_overflows;
+    if overflows > 0 {
+        result.stats.notes.push(format!(
+            "warning: {overflows} hits had more than {} distinct perfectly specular directions (a blend of many \
+             glasses?); the weakest were left out",
+            crate::bsdfs::MAX_SPECULAR_RAYS
+        ));
+    }
     result
 }
 

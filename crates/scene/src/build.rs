@@ -10,7 +10,7 @@ use penumbra_geometry::shapes::{Cuboid, Disk, Plane, Quad, Sphere};
 use penumbra_geometry::{GeometryBuilder, Instance, MeshAccel, Shape};
 use penumbra_render::cameras::{Orthographic, Perspective};
 use penumbra_render::lights::{Directional, Environment, LightSetBuilder, Point, Spot};
-use penumbra_render::materials::Phong;
+use penumbra_render::materials::{Phong, MAX_NESTING};
 use penumbra_render::texture::TextureImage;
 use penumbra_render::{Camera, Light, Material, Scene};
 use std::sync::Arc;
@@ -39,6 +39,18 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
                 &s.location,
                 "a shape refers to a material or mesh the scene does not define",
             ));
+        }
+        if let Some(m) = s.material.map(|m| &desc.materials[m]) {
+            let depth = m.material.nesting();
+            if depth > MAX_NESTING {
+                return Err(fail(
+                    &s.location,
+                    &format!(
+                        "material '{}' nests blends, two-sided and normal-mapped materials {depth} deep; at most {MAX_NESTING} are supported",
+                        m.name
+                    ),
+                ));
+            }
         }
     }
     let shared: Vec<Arc<MeshAccel>> = desc

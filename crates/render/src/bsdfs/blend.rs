@@ -56,9 +56,7 @@ impl<'a> Blend<'a> {
     pub fn specular_rays(&self, wo: Vec3, mode: TransportMode, rays: &mut SpecularRays) {
         for (w, b) in self.parts() {
             if w > 0.0 {
-                for r in b.specular_rays(wo, mode).as_slice() {
-                    rays.push(r.wi, r.weight * w);
-                }
+                rays.extend_scaled(&b.specular_rays(wo, mode), w);
             }
         }
     }

@@ -64,14 +64,19 @@ pub struct SpecularRay {
 
 /// Up to [`MAX_SPECULAR_RAYS`] perfectly specular rays, kept on the stack; rays in the
 /// same direction are merged (a blend of two glasses has two reflections along one line).
+/// A surface with more distinct delta directions than that (a blend of many glasses of
+/// different indices) keeps the strongest and counts the weight of those it drops in
+/// [`SpecularRays::dropped`], for the integrator to warn about; it never fails.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SpecularRays {
     rays: [SpecularRay; MAX_SPECULAR_RAYS],
     len: usize,
+    dropped: f32,
 }
 
-/// Room for a blend of blends of Phong glass (three rays each) before merging.
-pub const MAX_SPECULAR_RAYS: usize = 8;
+/// Room for a blend of blends of eight glasses (a shared reflection and eight refractions)
+/// and then some.
+pub const MAX_SPECULAR_RAYS: usize = 16;
 
 impl SpecularRays {
     pub fn push(&mut self, wi: Vec3, weight: Rgb) {
@@ -82,16 +87,40 @@ impl SpecularRays {
             same.weight += weight;
             return;
         }
-        assert!(
-            self.len < MAX_SPECULAR_RAYS,
-            "more than {MAX_SPECULAR_RAYS} specular rays"
-        );
-        self.rays[self.len] = SpecularRay { wi, weight };
-        self.len += 1;
+        if self.len < MAX_SPECULAR_RAYS {
+            self.rays[self.len] = SpecularRay { wi, weight };
+            self.len += 1;
+            return;
+        }
+        // Full: the weakest of the kept rays and the new one is dropped.
+        let strength = |w: Rgb| w.max_component();
+        let weakest = (0..self.len)
+            .min_by(|&a, &b| strength(self.rays[a].weight).total_cmp(&strength(self.rays[b].weight)))
+            .unwrap_or(0);
+        let lost = if strength(weight) > strength(self.rays[weakest].weight) {
+            std::mem::replace(&mut self.rays[weakest], SpecularRay { wi, weight }).weight
+        } else {
+            weight
+        };
+        self.dropped += strength(lost);
     }
 
     pub fn as_slice(&self) -> &[SpecularRay] {
         &self.rays[..self.len]
+    }
+
+    /// The summed largest channel of the rays dropped for want of room (0 almost always).
+    pub fn dropped(&self) -> f32 {
+        self.dropped
+    }
+
+    /// Every ray of `other`, each weighted by `scale`, added as [`SpecularRays::push`]
+    /// adds one (its dropped weight carried over).
+    pub fn extend_scaled(&mut self, other: &SpecularRays, scale: f32) {
+        for r in other.as_slice() {
+            self.push(r.wi, r.weight * scale);
+        }
+        self.dropped += other.dropped * scale;
     }
 }
 
@@ -161,8 +190,12 @@ impl<'a> Bsdf<'a> {
     /// The perfectly specular rays leaving towards `wo`, with their weights.
     pub fn specular_rays(&self, wo: Vec3, mode: TransportMode) -> SpecularRays {
         if self.mirrored(wo) {
-            let mut rays = SpecularRays::default();
-            for r in self.kind.specular_rays(flip(wo), mode).as_slice() {
+            let inner = self.kind.specular_rays(flip(wo), mode);
+            let mut rays = SpecularRays {
+                dropped: inner.dropped,
+                ..SpecularRays::default()
+            };
+            for r in inner.as_slice() {
                 rays.push(flip(r.wi), r.weight);
             }
             return rays;

@@ -366,3 +366,77 @@ fn blends_merge_their_specular_rays() {
     let (a, b) = (total(&single), total(&merged));
     assert!((a.r - b.r).abs() < 1e-6, "{a:?} vs {b:?}");
 }
+
+/// A balanced tree of blends over `leaves` (equal weights at every level).
+fn blend_tree(leaves: &[Material]) -> Material {
+    match leaves {
+        [one] => one.clone(),
+        _ => {
+            let (a, b) = leaves.split_at(leaves.len() / 2);
+            Material::Blend {
+                a: Box::new(blend_tree(a)),
+                b: Box::new(blend_tree(b)),
+                weight: grey(b.len() as f32 / leaves.len() as f32),
+            }
+        }
+    }
+}
+
+fn glasses(n: usize) -> Vec<Material> {
+    (0..n)
+        .map(|k| Material::Dielectric {
+            eta: 1.3 + 0.1 * k as f32,
+            reflectance: grey(1.0),
+            transmittance: grey(1.0),
+            roughness: None,
+        })
+        .collect()
+}
+
+#[test]
+fn a_blend_of_eight_glasses_keeps_every_specular_ray() {
+    // One shared reflection (its Fresnel weights summed) and eight refractions: nine
+    // distinct directions, all kept; the weights add up to the mixture's, each glass
+    // being lossless for radiance up to its 1/eta^2 (checked against the parts).
+    let parts = glasses(8);
+    let tree = blend_tree(&parts);
+    let rays = tree.bsdf(Vec2::ZERO).specular_rays(view(30.0), MODE);
+    assert_eq!(rays.as_slice().len(), 9);
+    assert_eq!(rays.dropped(), 0.0);
+    let total = |r: &SpecularRays| r.as_slice().iter().fold(Rgb::BLACK, |a, r| a + r.weight);
+    let expected = parts.iter().fold(Rgb::BLACK, |a, m| {
+        a + total(&m.bsdf(Vec2::ZERO).specular_rays(view(30.0), MODE)) * (1.0 / 8.0)
+    });
+    let got = total(&rays);
+    assert!((got.r - expected.r).abs() < 1e-5, "{got:?} vs {expected:?}");
+}
+
+#[test]
+fn more_specular_rays_than_room_drop_the_weakest_and_say_so() {
+    // Twenty glasses: 21 distinct directions for 16 places. The kept rays are the
+    // strongest ones and the dropped weight is what is missing from the total.
+    let parts = glasses(20);
+    let rays = blend_tree(&parts).bsdf(Vec2::ZERO).specular_rays(view(30.0), MODE);
+    assert_eq!(rays.as_slice().len(), MAX_SPECULAR_RAYS);
+    assert!(rays.dropped() > 0.0);
+    let mut all: Vec<f32> = parts
+        .iter()
+        .flat_map(|m| {
+            let r = m.bsdf(Vec2::ZERO).specular_rays(view(30.0), MODE);
+            r.as_slice()
+                .iter()
+                .skip(1)
+                .map(|r| r.weight.max_component())
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    all.sort_by(f32::total_cmp);
+    // The 20 refractions each weigh 1/20 of a glass's; the dropped ones are the five
+    // weakest refractions (the reflection, merged, outweighs them all).
+    let weakest: f32 = all[..5].iter().sum::<f32>() / 20.0;
+    assert!(
+        (rays.dropped() - weakest).abs() < 1e-5,
+        "dropped {} vs the five weakest {weakest}",
+        rays.dropped()
+    );
+}

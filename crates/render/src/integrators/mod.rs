@@ -41,6 +41,9 @@ pub struct RayCounts {
     pub camera: u64,
     pub secondary: u64,
     pub shadow: u64,
+    /// Hits with more distinct perfectly specular directions than
+    /// [`crate::bsdfs::MAX_SPECULAR_RAYS`]: the weakest were dropped (reported as a note).
+    pub specular_overflows: u64,
 }
 
 impl RayCounts {
@@ -52,6 +55,7 @@ impl RayCounts {
         self.camera += o.camera;
         self.secondary += o.secondary;
         self.shadow += o.shadow;
+        self.specular_overflows += o.specular_overflows;
     }
 }
 
@@ -231,7 +235,9 @@ fn specular_bounces(
         return radiance;
     }
     let s = &sh.it.surface;
-    for r in sh.bsdf.specular_rays(sh.wo, TransportMode::Radiance).as_slice() {
+    let rays = sh.bsdf.specular_rays(sh.wo, TransportMode::Radiance);
+    counts.specular_overflows += (rays.dropped() > 0.0) as u64;
+    for r in rays.as_slice() {
         let weight = beta * r.weight;
         if weight.max_component() < options.min_weight {
             continue;

@@ -86,7 +86,20 @@ pub enum Material {
     NormalMapped { map: Texture, inner: Box<Material> },
 }
 
+/// The deepest a material may nest blends, two-sided and normal-mapped wrappers: each
+/// level costs a recursion per BSDF call, and no real scene comes near it.
+pub const MAX_NESTING: usize = 32;
+
 impl Material {
+    /// How deep blends and wrappers nest in this material (1 for a plain one).
+    pub fn nesting(&self) -> usize {
+        match self {
+            Material::Blend { a, b, .. } => 1 + a.nesting().max(b.nesting()),
+            Material::TwoSided(inner) | Material::NormalMapped { inner, .. } => 1 + inner.nesting(),
+            _ => 1,
+        }
+    }
+
     /// A plastic material, its coating's internal reflectance worked out.
     pub fn plastic(diffuse: Texture, specular: Texture, eta: f32, roughness: Option<Roughness>) -> Self {
         Material::Plastic {

@@ -248,7 +248,9 @@ impl EnvDirect {
         };
         let sh = Shading::new(&it);
         let t = Target { sh: &sh, env };
-        for r in sh.bsdf.specular_rays(sh.wo, TransportMode::Radiance).as_slice() {
+        let rays = sh.bsdf.specular_rays(sh.wo, TransportMode::Radiance);
+        counts.specular_overflows += (rays.dropped() > 0.0) as u64;
+        for r in rays.as_slice() {
             let w = sh.frame.to_world(r.wi);
             if sh.agrees(w, r.wi) && t.visible(scene, w, counts) {
                 radiance += r.weight * env.le(w);

@@ -336,6 +336,7 @@ pub fn walk<'a>(
             out.radiance += beta * direct(scene, &sh, sampler, counts);
         }
         let rays = bsdf.specular_rays(sh.wo, TransportMode::Radiance);
+        counts.specular_overflows += (rays.dropped() > 0.0) as u64;
         let rays = rays.as_slice();
         let delta: f32 = rays.iter().map(|r| r.weight.luminance().max(0.0)).sum();
         let p_smooth = match (smooth, delta > 0.0) {
