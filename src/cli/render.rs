@@ -474,7 +474,7 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
     let secs = s.elapsed.as_secs_f64().max(1e-9);
     if !args.quiet {
         eprintln!(
-            "rendered {}x{} at {} spp in {:.2} s: {:.2} Msamples/s, {:.2} Mrays/s ({} camera, {} secondary, {} shadow rays){}",
+            "rendered {}x{} at {} spp in {:.2} s: {:.2} Msamples/s, {:.2} Mrays/s ({} camera, {} secondary, {} shadow rays; {} kernels){}",
             film.width,
             film.height,
             film.samples_per_pixel,
@@ -484,6 +484,7 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
             s.rays.camera,
             s.rays.secondary,
             s.rays.shadow,
+            penumbra::math::simd::level(),
             if film.rejected > 0 { format!(", {} NaN/Inf samples rejected", film.rejected) } else { String::new() }
         );
         for note in &s.notes {

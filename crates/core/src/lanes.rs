@@ -95,9 +95,9 @@ pub trait Real:
 
 /// [`Real::offset_along`]'s constants (Wächter and Binder 2019): below `ORIGIN` a fixed
 /// step `FLOAT_SCALE` n, else `INT_SCALE` n units in the last place.
-const ORIGIN: f32 = 1.0 / 32.0;
-const FLOAT_SCALE: f32 = 1.0 / 65536.0;
-const INT_SCALE: f32 = 256.0;
+pub(crate) const ORIGIN: f32 = 1.0 / 32.0;
+pub(crate) const FLOAT_SCALE: f32 = 1.0 / 65536.0;
+pub(crate) const INT_SCALE: f32 = 256.0;
 
 impl Real for f32 {
     type Mask = bool;
@@ -234,6 +234,36 @@ impl Real for F8 {
     }
 }
 
+/// An eight-lane [`Real`]: [`F8`] (portable), or `F8Avx` (`crate::lanes_avx`, inside the
+/// kernels compiled for AVX2). Code generic over it runs at either SIMD level.
+pub trait Lane8: Real {
+    fn from_array(a: [f32; 8]) -> Self;
+    fn to_array(self) -> [f32; 8];
+    /// The mask that holds in lane `k` where `b[k]`.
+    fn mask_of(b: [bool; 8]) -> Self::Mask;
+    /// Bit `k` set where `mask` holds in lane `k`.
+    fn bits(mask: Self::Mask) -> u32;
+}
+
+impl Lane8 for F8 {
+    #[inline(always)]
+    fn from_array(a: [f32; 8]) -> Self {
+        F8::from(a)
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f32; 8] {
+        self.0.to_array()
+    }
+    #[inline(always)]
+    fn mask_of(b: [bool; 8]) -> wide::f32x8 {
+        F8::mask(b)
+    }
+    #[inline(always)]
+    fn bits(mask: wide::f32x8) -> u32 {
+        F8::mask_bits(mask)
+    }
+}
+
 /// A 3-vector of lanes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct V3<R> {
@@ -339,13 +369,14 @@ impl From<V3<f32>> for glam::Vec3 {
     }
 }
 
-impl V3<F8> {
+impl<L: Lane8> V3<L> {
     /// Eight vectors, one per lane.
+    #[inline(always)]
     pub fn from_lanes(v: &[glam::Vec3; 8]) -> Self {
         V3::new(
-            F8::from(v.map(|v| v.x)),
-            F8::from(v.map(|v| v.y)),
-            F8::from(v.map(|v| v.z)),
+            L::from_array(v.map(|v| v.x)),
+            L::from_array(v.map(|v| v.y)),
+            L::from_array(v.map(|v| v.z)),
         )
     }
 
@@ -356,6 +387,7 @@ impl V3<F8> {
     }
 
     /// The vector of each lane.
+    #[inline(always)]
     pub fn to_lanes(self) -> [glam::Vec3; 8] {
         let (x, y, z) = (self.x.to_array(), self.y.to_array(), self.z.to_array());
         std::array::from_fn(|k| glam::Vec3::new(x[k], y[k], z[k]))
@@ -434,7 +466,7 @@ mod tests {
             let n: [Vec3; 8] = std::array::from_fn(|_| {
                 Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, rng.next_f32() - 0.5).normalize()
             });
-            let lanes = crate::ray::offset_origin_lanes(V3::from_lanes(&p), V3::from_lanes(&n)).to_lanes();
+            let lanes = crate::ray::offset_origin_lanes(V3::<F8>::from_lanes(&p), V3::<F8>::from_lanes(&n)).to_lanes();
             for k in 0..8 {
                 let scalar = crate::ray::offset_origin(p[k], n[k]);
                 assert_eq!(bits(lanes[k]), bits(scalar), "{} along {}", p[k], n[k]);

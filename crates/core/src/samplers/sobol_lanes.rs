@@ -1,8 +1,8 @@
 //! The Sobol sampler's points for eight pixel samples at once: the Laine–Karras scrambles,
 //! the bit reversals and the dimension-1 transform of [`super::sobol`] in AVX2 integer
 //! lanes (byte shuffles for the reversals), the same integer operations, so each lane's
-//! point is bit for bit the scalar one. Without AVX2 the lanes are computed one by one by
-//! the scalar code.
+//! point is bit for bit the scalar one. Below [`crate::simd::Level::Avx2`] the lanes are
+//! computed one by one by the scalar code.
 
 use super::sobol::{coordinate, laine_karras, second_seed};
 
@@ -11,19 +11,15 @@ use super::sobol::{coordinate, laine_karras, second_seed};
 /// `x` (then [`super::sobol::sample_1d`]'s value) and `y` is zero.
 #[inline]
 pub(super) fn sample_lanes(pattern: &[u64; 8], index_reversed: &[u32; 8], two: bool) -> ([f32; 8], [f32; 8]) {
-    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-    {
-        // SAFETY: the target has AVX2 (checked at compile time above).
-        unsafe { avx2::sample_lanes(pattern, index_reversed, two) }
+    #[cfg(target_arch = "x86_64")]
+    if crate::simd::level() >= crate::simd::Level::Avx2 {
+        // SAFETY: the CPU runs AVX2 (`Level::supported`, checked when the level was set).
+        return unsafe { avx2::sample_lanes(pattern, index_reversed, two) };
     }
-    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
-    {
-        scalar(pattern, index_reversed, two)
-    }
+    scalar(pattern, index_reversed, two)
 }
 
 /// The lanes one by one (the reference, and the code without AVX2).
-#[cfg_attr(all(target_arch = "x86_64", target_feature = "avx2"), allow(dead_code))]
 fn scalar(pattern: &[u64; 8], index_reversed: &[u32; 8], two: bool) -> ([f32; 8], [f32; 8]) {
     let (mut x, mut y) = ([0.0; 8], [0.0; 8]);
     for k in 0..8 {
@@ -36,7 +32,7 @@ fn scalar(pattern: &[u64; 8], index_reversed: &[u32; 8], two: bool) -> ([f32; 8]
     (x, y)
 }
 
-#[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+#[cfg(target_arch = "x86_64")]
 mod avx2 {
     use super::super::sobol::PASCAL_STEPS;
     use super::second_seed;
@@ -139,8 +135,9 @@ mod tests {
     /// over the whole 32 and 64 bits (reversals and scrambles of every bit position).
     #[test]
     fn lanes_equal_the_scalar_points() {
-        #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
-        println!("note: no AVX2 in this build: the lanes are the scalar code, checked against the definition only");
+        if !crate::simd::Level::Avx2.supported() {
+            println!("note: this CPU lacks AVX2: the lanes are the scalar code, checked against the definition only");
+        }
         for round in 0..20_000u64 {
             let pattern = std::array::from_fn(|k| mix64(round * 8 + k as u64));
             let index_reversed = std::array::from_fn(|k| mix64(!(round * 8 + k as u64)) as u32);
@@ -158,10 +155,16 @@ mod tests {
             assert_eq!(scalar(&pattern, &index_reversed, true).1, points.map(|p| p.y));
             assert_eq!(scalar(&pattern, &index_reversed, false).0, ones);
             for two in [false, true] {
-                let got = sample_lanes(&pattern, &index_reversed, two);
                 let want = scalar(&pattern, &index_reversed, two);
+                #[cfg(target_arch = "x86_64")]
+                if crate::simd::Level::Avx2.supported() {
+                    // SAFETY: the CPU runs AVX2 (checked just above).
+                    let got = unsafe { avx2::sample_lanes(&pattern, &index_reversed, two) };
+                    assert_eq!(got.0.map(f32::to_bits), want.0.map(f32::to_bits), "round {round}");
+                    assert_eq!(got.1.map(f32::to_bits), want.1.map(f32::to_bits), "round {round}");
+                }
+                let got = sample_lanes(&pattern, &index_reversed, two);
                 assert_eq!(got.0.map(f32::to_bits), want.0.map(f32::to_bits), "round {round}");
-                assert_eq!(got.1.map(f32::to_bits), want.1.map(f32::to_bits), "round {round}");
             }
         }
     }

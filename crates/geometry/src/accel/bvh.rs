@@ -3,14 +3,16 @@
 //! subtrees, then collapsed into an 8-wide tree (as in Embree's BVH8) whose eight child
 //! boxes are tested at once with SIMD slab tests. Traversal visits hit children nearest
 //! first and culls entries farther than the closest hit found; shadow rays stop at the
-//! first hit. The binary build is in `bvh_build.rs`.
+//! first hit. The slab test runs in one AVX instruction per step where the CPU has it
+//! ([`penumbra_core::simd`] picks at run time), else as two four-wide halves; the floats are
+//! the same. The binary build is in `bvh_build.rs`.
 
 use super::bvh_build::{align_leaves, area, build, LeafRule, Node, PrimInfo, MAX_DEPTH};
 use super::{Counter, PrimitiveSet, Traverse};
 use crate::Hit;
 use glam::Vec3;
-#[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
 use glam::Vec4;
+use penumbra_core::simd::{self, Level};
 use penumbra_core::{Aabb, Ray};
 use rayon::prelude::*;
 use std::mem::MaybeUninit;
@@ -113,9 +115,10 @@ impl<P: PrimitiveSet> Bvh<P> {
     /// first, with their entry distances, so that popped entries beyond `t_max` are culled.
     /// With `NEAREST_FIRST == false` (shadow rays, whose `t_max` never shrinks) the hit
     /// children are pushed as they come, without their distances: every pushed entry is
-    /// entered before `t_max`, so none would be culled.
+    /// entered before `t_max`, so none would be culled. `AVX`: the slab test's kernel
+    /// (true only inside a function compiled for AVX2, see [`Bvh::closest`]).
     #[inline(always)]
-    fn traverse<C: Counter, const NEAREST_FIRST: bool>(
+    fn traverse<C: Counter, const NEAREST_FIRST: bool, const AVX: bool>(
         &self,
         ray: &Ray,
         mut t_max: f32,
@@ -151,7 +154,7 @@ impl<P: PrimitiveSet> Bvh<P> {
             } else {
                 let node = &self.nodes[index];
                 stats.node();
-                let (mask, t0) = slabs(node, &rs, t_max);
+                let (mask, t0) = slabs::<AVX>(node, &rs, t_max);
                 let mut mask = mask;
                 if mask != 0 {
                     let entry = |lane: usize| node.child[lane] as u64 | (node.count[lane] as u64) << 32;
@@ -210,10 +213,11 @@ impl<P: PrimitiveSet> Bvh<P> {
         }
     }
 
-    fn closest_hit<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+    #[inline(always)]
+    fn closest_hit<C: Counter, const AVX: bool>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
         let data = self.prims.prepare(ray);
         let mut closest = None;
-        self.traverse::<C, true>(
+        self.traverse::<C, true, AVX>(
             ray,
             t_max,
             stats,
@@ -237,6 +241,45 @@ impl<P: PrimitiveSet> Bvh<P> {
             },
         );
         closest
+    }
+}
+
+/// The traversals compiled for AVX2: the whole loop, with the eight-wide slab test.
+#[cfg(target_arch = "x86_64")]
+impl<P: PrimitiveSet> Bvh<P> {
+    #[target_feature(enable = "avx2")]
+    unsafe fn closest_avx2<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+        self.closest_hit::<C, true>(ray, t_max, stats)
+    }
+
+    #[target_feature(enable = "avx2")]
+    unsafe fn any_hit_avx2(&self, ray: &Ray, t_max: f32) -> bool {
+        self.any_hit_kernel::<true>(ray, t_max)
+    }
+}
+
+impl<P: PrimitiveSet> Bvh<P> {
+    #[inline(always)]
+    fn any_hit_kernel<const AVX: bool>(&self, ray: &Ray, t_max: f32) -> bool {
+        let data = self.prims.prepare(ray);
+        let mut hit = false;
+        self.traverse::<(), false, AVX>(
+            ray,
+            t_max,
+            &mut (),
+            #[inline(always)]
+            |first, count, t_max, _| {
+                hit = if self.order.is_empty() {
+                    self.prims.occluded_run(first, count, ray, &data, t_max)
+                } else {
+                    self.order[first..first + count]
+                        .iter()
+                        .any(|&prim| self.prims.occluded(prim, ray, &data, t_max))
+                };
+                (t_max, hit)
+            },
+        );
+        hit
     }
 }
 
@@ -281,12 +324,24 @@ impl RaySlabs {
 
 /// The slab test of a ray against a node's children: the mask of children entered before
 /// `t_max`, and each child's entry distance. Exit distances are widened by `ROUNDING`.
-#[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
+/// `AVX` picks [`slabs_avx`], else [`slabs_sse`].
 #[inline(always)]
-fn slabs(node: &WideNode, r: &RaySlabs, t_max: f32) -> (u32, [f32; WIDTH]) {
+fn slabs<const AVX: bool>(node: &WideNode, r: &RaySlabs, t_max: f32) -> (u32, [f32; WIDTH]) {
+    #[cfg(target_arch = "x86_64")]
+    if AVX {
+        // SAFETY: `AVX` is true only in functions compiled for AVX2, called when the CPU runs it.
+        return unsafe { slabs_avx(node, r, t_max) };
+    }
+    slabs_sse(node, r, t_max)
+}
+
+/// [`slabs`] in AVX registers. Safety: the CPU must run AVX; inline it only into functions
+/// compiled for AVX (the intrinsics are not inlined elsewhere).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn slabs_avx(node: &WideNode, r: &RaySlabs, t_max: f32) -> (u32, [f32; WIDTH]) {
     use std::arch::x86_64::*;
-    // SAFETY: the target has AVX (checked at compile time) and every load reads a whole
-    // row of eight floats.
+    // SAFETY: the caller's CPU has AVX, and every load reads a whole row of eight floats.
     unsafe {
         let plane = |k: usize| _mm256_loadu_ps(node.bounds[k].as_ptr());
         let axis = |a: usize, k: usize| {
@@ -322,9 +377,8 @@ fn slabs(node: &WideNode, r: &RaySlabs, t_max: f32) -> (u32, [f32; WIDTH]) {
 }
 
 /// [`slabs`] four lanes at a time.
-#[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
 #[inline(always)]
-fn slabs(node: &WideNode, r: &RaySlabs, t_max: f32) -> (u32, [f32; WIDTH]) {
+fn slabs_sse(node: &WideNode, r: &RaySlabs, t_max: f32) -> (u32, [f32; WIDTH]) {
     let mut t0 = [0.0f32; WIDTH];
     let mut mask = 0;
     for half in 0..WIDTH / 4 {
@@ -346,29 +400,21 @@ const ROUNDING: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32:
 
 impl<P: PrimitiveSet> Traverse for Bvh<P> {
     fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
-        self.closest_hit(ray, t_max, stats)
+        #[cfg(target_arch = "x86_64")]
+        if simd::level() >= Level::Avx2 {
+            // SAFETY: the CPU runs AVX2 (checked when the level was chosen).
+            return unsafe { self.closest_avx2(ray, t_max, stats) };
+        }
+        self.closest_hit::<C, false>(ray, t_max, stats)
     }
 
     fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
-        let data = self.prims.prepare(ray);
-        let mut hit = false;
-        self.traverse::<(), false>(
-            ray,
-            t_max,
-            &mut (),
-            #[inline(always)]
-            |first, count, t_max, _| {
-                hit = if self.order.is_empty() {
-                    self.prims.occluded_run(first, count, ray, &data, t_max)
-                } else {
-                    self.order[first..first + count]
-                        .iter()
-                        .any(|&prim| self.prims.occluded(prim, ray, &data, t_max))
-                };
-                (t_max, hit)
-            },
-        );
-        hit
+        #[cfg(target_arch = "x86_64")]
+        if simd::level() >= Level::Avx2 {
+            // SAFETY: the CPU runs AVX2 (checked when the level was chosen).
+            return unsafe { self.any_hit_avx2(ray, t_max) };
+        }
+        self.any_hit_kernel::<false>(ray, t_max)
     }
 
     fn extent(&self) -> Aabb {

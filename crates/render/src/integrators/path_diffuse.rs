@@ -10,7 +10,10 @@ use super::{RayCounts, SHADOW_T_MAX};
 use crate::lights::{AreaLight, Light, LightSelection};
 use crate::{Interaction, Material, Scene, Texture};
 use glam::{Vec2, Vec3};
-use penumbra_core::lanes::{F8, V3};
+use penumbra_core::lanes::{Lane8, F8, V3};
+#[cfg(target_arch = "x86_64")]
+use penumbra_core::lanes_avx::F8Avx;
+use penumbra_core::simd::{self, Level};
 use penumbra_core::{PixelSampler, Rgb};
 use penumbra_geometry::triangle_lanes::{triangle_surface_lanes, SurfaceLanes, TriangleLanes};
 use penumbra_geometry::{Hit, SurfaceHit, TriangleMesh};
@@ -58,25 +61,19 @@ pub(crate) fn lane_meshes(scene: &Scene) -> Vec<Option<LaneMesh>> {
 
 /// The scalar [`Interaction`] of lane `j`'s surface (for the light samples the lanes do
 /// not take): the same floats `Scene::interaction` gives.
-fn lane_interaction<'s>(
-    d: &DiffuseLane,
-    material: &'s Material,
-    j: usize,
-    s: &SurfaceLanes<F8>,
-    wo: V3<F8>,
-) -> Interaction<'s> {
+fn lane_interaction<'s>(d: &DiffuseLane, material: &'s Material, j: usize, r: &LaneResults) -> Interaction<'s> {
     Interaction {
         surface: SurfaceHit {
-            p: s.p.lane(j),
-            ng: s.ng.lane(j),
-            ns: s.ns.lane(j),
-            uv: Vec2::new(s.uv.0.to_array()[j], s.uv.1.to_array()[j]),
-            dpdu: s.dpdu.lane(j),
+            p: r.p.at(j),
+            ng: r.ng.at(j),
+            ns: r.ns.at(j),
+            uv: Vec2::new(r.uv[0][j], r.uv[1][j]),
+            dpdu: r.dpdu.at(j),
             object: d.lane.object,
             triangle: d.triangle,
         },
         material,
-        wo: wo.lane(j),
+        wo: r.wo.at(j),
     }
 }
 
@@ -126,14 +123,135 @@ impl Columns {
     }
 
     #[inline(always)]
-    fn f8(&self, column: usize) -> F8 {
-        F8::from(self.0[column])
+    fn f8<L: Lane8>(&self, column: usize) -> L {
+        L::from_array(self.0[column])
     }
 
     #[inline(always)]
-    fn v3(&self, column: usize) -> V3<F8> {
+    fn v3<L: Lane8>(&self, column: usize) -> V3<L> {
         V3::new(self.f8(column), self.f8(column + 1), self.f8(column + 2))
     }
+}
+
+/// The per-lane flags beside [`Columns`]: sidedness of surface and light, whether the
+/// mesh has normals and UVs, whether the picked light is a plain triangle.
+#[derive(Default)]
+struct Flags {
+    two_sided: [bool; 8],
+    light_two_sided: [bool; 8],
+    has_normals: [bool; 8],
+    has_uvs: [bool; 8],
+}
+
+/// What the lanes computed, read back per lane: the surface, the light sample's shadow
+/// ray and value, the continuation.
+struct LaneResults {
+    p: Lanes3,
+    ng: Lanes3,
+    ns: Lanes3,
+    dpdu: Lanes3,
+    uv: [[f32; 8]; 2],
+    wo: Lanes3,
+    by_area: u32,
+    lit: u32,
+    l_origin: Lanes3,
+    l_dir: Lanes3,
+    l_value: Lanes3,
+    c_ok: u32,
+    c_pdf: [f32; 8],
+    c_origin: Lanes3,
+    c_dir: Lanes3,
+    c_beta: Lanes3,
+}
+
+/// The lanes' arithmetic: the surfaces ([`triangle_surface_lanes`]) and the bounce
+/// ([`diffuse_lanes::bounce`]), in lane type `L`.
+#[inline(always)]
+fn lane_kernel<L: Lane8>(
+    c: &Columns,
+    f: &Flags,
+    u_light: ([f32; 8], [f32; 8]),
+    u_dir: ([f32; 8], [f32; 8]),
+) -> LaneResults {
+    let uv = |v: usize| (c.f8::<L>(Columns::UV + 2 * v), c.f8::<L>(Columns::UV + 2 * v + 1));
+    let surface = triangle_surface_lanes(&TriangleLanes {
+        p: [0, 1, 2].map(|v| c.v3(Columns::P + 3 * v)),
+        n: [0, 1, 2].map(|v| c.v3(Columns::N + 3 * v)),
+        has_normals: L::mask_of(f.has_normals),
+        t: [uv(0), uv(1), uv(2)],
+        has_uvs: L::mask_of(f.has_uvs),
+        b: (c.f8(Columns::B), c.f8(Columns::B + 1)),
+    });
+    // `Scene::interaction`'s -dir.normalize().
+    let dir: V3<L> = c.v3(Columns::DIR);
+    let wo = -dir.try_normalize().0;
+    let hit = DiffuseHit {
+        p: surface.p,
+        ng: surface.ng,
+        ns: surface.ns,
+        dpdu: surface.dpdu,
+        wo,
+        reflectance: c.v3(Columns::REFLECTANCE),
+        two_sided: L::mask_of(f.two_sided),
+        beta: c.v3(Columns::BETA),
+    };
+    let light = TriangleLight {
+        v: [c.v3(Columns::V), c.v3(Columns::V + 3), c.v3(Columns::V + 6)],
+        normal: c.v3(Columns::LIGHT_NORMAL),
+        centroid: c.v3(Columns::CENTROID),
+        area: c.f8(Columns::AREA),
+        radiance: c.v3(Columns::RADIANCE),
+        two_sided: L::mask_of(f.light_two_sided),
+        p_pick: c.f8(Columns::P_PICK),
+    };
+    let (lo, co) = diffuse_lanes::bounce(
+        &hit,
+        &light,
+        (L::from_array(u_light.0), L::from_array(u_light.1)),
+        (L::from_array(u_dir.0), L::from_array(u_dir.1)),
+    );
+    let s: &SurfaceLanes<L> = &surface;
+    // Read back one float at a time from whole-register stores (a vector assembled in
+    // a temporary and reloaded across two of its stores would stall the loads).
+    LaneResults {
+        p: Lanes3::of(s.p),
+        ng: Lanes3::of(s.ng),
+        ns: Lanes3::of(s.ns),
+        dpdu: Lanes3::of(s.dpdu),
+        uv: [s.uv.0.to_array(), s.uv.1.to_array()],
+        wo: Lanes3::of(wo),
+        by_area: L::bits(lo.by_area),
+        lit: L::bits(lo.ok),
+        l_origin: Lanes3::of(lo.origin),
+        l_dir: Lanes3::of(lo.dir),
+        l_value: Lanes3::of(lo.value),
+        c_ok: L::bits(co.ok),
+        c_pdf: co.pdf.to_array(),
+        c_origin: Lanes3::of(co.origin),
+        c_dir: Lanes3::of(co.dir),
+        c_beta: Lanes3::of(co.beta),
+    }
+}
+
+/// [`lane_kernel`] at the SIMD level the CPU runs ([`simd::level`]); the same floats at
+/// every level.
+fn run_lane_kernel(c: &Columns, f: &Flags, u_light: ([f32; 8], [f32; 8]), u_dir: ([f32; 8], [f32; 8])) -> LaneResults {
+    #[cfg(target_arch = "x86_64")]
+    if simd::level() >= Level::Avx2 {
+        /// The kernel compiled for AVX2, in `F8Avx` lanes.
+        #[target_feature(enable = "avx2")]
+        unsafe fn avx2(
+            c: &Columns,
+            f: &Flags,
+            u_light: ([f32; 8], [f32; 8]),
+            u_dir: ([f32; 8], [f32; 8]),
+        ) -> LaneResults {
+            lane_kernel::<F8Avx>(c, f, u_light, u_dir)
+        }
+        // SAFETY: the CPU runs AVX2 (checked when the level was chosen).
+        return unsafe { avx2(c, f, u_light, u_dir) };
+    }
+    lane_kernel::<F8>(c, f, u_light, u_dir)
 }
 
 /// The three components of eight lanes' vectors, each as stored from its register.
@@ -141,7 +259,7 @@ struct Lanes3([[f32; 8]; 3]);
 
 impl Lanes3 {
     #[inline(always)]
-    fn of(v: V3<F8>) -> Self {
+    fn of<L: Lane8>(v: V3<L>) -> Self {
         Lanes3([v.x.to_array(), v.y.to_array(), v.z.to_array()])
     }
 
@@ -205,8 +323,8 @@ impl PathTracer {
         };
         let rgb = |c: Rgb| Vec3::new(c.r, c.g, c.b);
         let mut c = Columns([[0.0; 8]; Columns::COUNT]);
-        let (mut two_sided, mut light_two_sided, mut tris) = ([false; 8], [false; 8], [false; 8]);
-        let (mut has_normals, mut has_uvs) = ([false; 8], [false; 8]);
+        let mut f = Flags::default();
+        let mut tris = [false; 8];
         for j in 0..8 {
             let d = lane(j);
             let idx = d.mesh.indices[d.triangle as usize].map(|i| i as usize);
@@ -217,14 +335,14 @@ impl PathTracer {
                 for (v, &i) in idx.iter().enumerate() {
                     c.put(Columns::N + 3 * v, j, normals[i]);
                 }
-                has_normals[j] = true;
+                f.has_normals[j] = true;
             }
             if let Some(uvs) = &d.mesh.uvs {
                 for (v, &i) in idx.iter().enumerate() {
                     c.0[Columns::UV + 2 * v][j] = uvs[i].x;
                     c.0[Columns::UV + 2 * v + 1][j] = uvs[i].y;
                 }
-                has_uvs[j] = true;
+                f.has_uvs[j] = true;
             }
             c.0[Columns::B][j] = d.b.x;
             c.0[Columns::B + 1][j] = d.b.y;
@@ -232,7 +350,7 @@ impl PathTracer {
             c.put(Columns::DIR, j, path.ray.dir);
             c.put(Columns::REFLECTANCE, j, rgb(d.lane.reflectance));
             c.put(Columns::BETA, j, rgb(path.beta));
-            two_sided[j] = d.lane.two_sided;
+            f.two_sided[j] = d.lane.two_sided;
             if let Some((v, normal, centroid, light, p_pick)) = triangle(j) {
                 c.put(Columns::V, j, v[0]);
                 c.put(Columns::V + 3, j, v[1]);
@@ -242,50 +360,12 @@ impl PathTracer {
                 c.put(Columns::RADIANCE, j, rgb(light.radiance));
                 c.0[Columns::AREA][j] = light.emitter.area();
                 c.0[Columns::P_PICK][j] = p_pick;
-                light_two_sided[j] = light.two_sided;
+                f.light_two_sided[j] = light.two_sided;
                 tris[j] = true;
             }
         }
-        let uv = |v: usize| (c.f8(Columns::UV + 2 * v), c.f8(Columns::UV + 2 * v + 1));
-        let surface = triangle_surface_lanes(&TriangleLanes {
-            p: [0, 1, 2].map(|v| c.v3(Columns::P + 3 * v)),
-            n: [0, 1, 2].map(|v| c.v3(Columns::N + 3 * v)),
-            has_normals: F8::mask(has_normals),
-            t: [uv(0), uv(1), uv(2)],
-            has_uvs: F8::mask(has_uvs),
-            b: (c.f8(Columns::B), c.f8(Columns::B + 1)),
-        });
-        // `Scene::interaction`'s -dir.normalize().
-        let dir = c.v3(Columns::DIR);
-        let wo = -dir.try_normalize().0;
-        let hit = DiffuseHit {
-            p: surface.p,
-            ng: surface.ng,
-            ns: surface.ns,
-            dpdu: surface.dpdu,
-            wo,
-            reflectance: c.v3(Columns::REFLECTANCE),
-            two_sided: F8::mask(two_sided),
-            beta: c.v3(Columns::BETA),
-        };
-        let light = TriangleLight {
-            v: [c.v3(Columns::V), c.v3(Columns::V + 3), c.v3(Columns::V + 6)],
-            normal: c.v3(Columns::LIGHT_NORMAL),
-            centroid: c.v3(Columns::CENTROID),
-            area: c.f8(Columns::AREA),
-            radiance: c.v3(Columns::RADIANCE),
-            two_sided: F8::mask(light_two_sided),
-            p_pick: c.f8(Columns::P_PICK),
-        };
-        let (lo, co) = diffuse_lanes::bounce(
-            &hit,
-            &light,
-            (F8::from(u_light.0), F8::from(u_light.1)),
-            (F8::from(u_dir.0), F8::from(u_dir.1)),
-        );
-
-        let (by_area, lit) = (F8::mask_bits(lo.by_area), F8::mask_bits(lo.ok));
-        let (c_ok, c_pdf) = (F8::mask_bits(co.ok), co.pdf.to_array());
+        let r = run_lane_kernel(&c, &f, u_light, u_dir);
+        let (by_area, lit, c_ok, c_pdf) = (r.by_area, r.lit, r.c_ok, r.c_pdf);
         // Russian roulette's number for each path that goes on, where it is played.
         let (mut going, mut rank) = ([0usize; 8], [0usize; 8]);
         let mut going_n = 0;
@@ -298,10 +378,8 @@ impl PathTracer {
         } else {
             [0.0; 8]
         };
-        // Read back one float at a time from whole-register stores (a vector assembled in
-        // a temporary and reloaded across two of its stores would stall the loads).
-        let (l_origin, l_dir, l_value) = (Lanes3::of(lo.origin), Lanes3::of(lo.dir), Lanes3::of(lo.value));
-        let (c_origin, c_dir, c_beta) = (Lanes3::of(co.origin), Lanes3::of(co.dir), Lanes3::of(co.beta));
+        let (l_origin, l_dir, l_value) = (&r.l_origin, &r.l_dir, &r.l_value);
+        let (c_origin, c_dir, c_beta) = (&r.c_origin, &r.c_dir, &r.c_beta);
         for (j, d) in group.iter().enumerate() {
             let i = path_of[j];
             if let Some((index, p_pick)) = picks[j] {
@@ -311,7 +389,7 @@ impl PathTracer {
                         shadows.push(l_origin.at(j), l_dir.at(j), SHADOW_T_MAX, (i, Rgb::new(v.x, v.y, v.z)));
                     }
                 } else {
-                    let it = lane_interaction(d, scene.material_of(d.lane.object), j, &surface, wo);
+                    let it = lane_interaction(d, scene.material_of(d.lane.object), j, &r);
                     let sh = Shading::new(&it);
                     if let Some(test) =
                         nee::light_sample(scene, &sh, index, p_pick, Vec2::new(u_light.0[j], u_light.1[j]), nee)

@@ -1,0 +1,129 @@
+//! Run-time choice of the SIMD kernels. The binary is built for the baseline x86-64 target
+//! (SSE2); the kernels that gain from wider registers (the BVH's eight-box slab test, the
+//! Sobol sampler's integer lanes) also exist compiled for AVX2 and are picked once per
+//! process from what the CPU reports (`is_x86_feature_detected!`), the way Embree and
+//! Mitsuba's Dr.Jit pick theirs. Every kernel performs the same IEEE operations in the same
+//! order at every level (no fused multiply-adds), so images are bit-identical whichever
+//! level runs (`tests/simd_levels.rs` forces each one).
+//!
+//! `PENUMBRA_SIMD=sse2|avx2` caps the level (for testing, or to compare kernels).
+
+use std::fmt;
+use std::sync::atomic::{AtomicU8, Ordering};
+
+/// A set of kernels, from the narrowest to the widest.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Level {
+    /// The baseline: SSE2 on x86-64, plain code elsewhere.
+    Sse2 = 1,
+    /// AVX2 (eight `f32` or `i32` lanes per instruction).
+    Avx2 = 2,
+}
+
+impl Level {
+    /// Every level, narrowest first.
+    pub const ALL: [Level; 2] = [Level::Sse2, Level::Avx2];
+
+    /// The name `PENUMBRA_SIMD` takes and reports print.
+    pub fn name(self) -> &'static str {
+        match self {
+            Level::Sse2 => "sse2",
+            Level::Avx2 => "avx2",
+        }
+    }
+
+    /// Whether this CPU runs the level's kernels.
+    pub fn supported(self) -> bool {
+        match self {
+            Level::Sse2 => true,
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2 => is_x86_feature_detected!("avx2"),
+            #[cfg(not(target_arch = "x86_64"))]
+            Level::Avx2 => false,
+        }
+    }
+
+    /// The widest level this CPU runs.
+    pub fn best() -> Level {
+        *Level::ALL.iter().rev().find(|l| l.supported()).unwrap_or(&Level::Sse2)
+    }
+
+    /// The level named `name` (case-insensitive), if it is one.
+    pub fn parse(name: &str) -> Option<Level> {
+        Level::ALL
+            .into_iter()
+            .find(|l| l.name().eq_ignore_ascii_case(name.trim()))
+    }
+}
+
+impl fmt::Display for Level {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The level in use; 0 until first asked for.
+static LEVEL: AtomicU8 = AtomicU8::new(0);
+
+/// The level the kernels run at: the widest the CPU runs, capped by `PENUMBRA_SIMD` (a
+/// level the CPU lacks, or a name that is none, falls back to the widest with a note on
+/// standard error), or what [`set_level`] chose.
+#[inline(always)]
+pub fn level() -> Level {
+    match LEVEL.load(Ordering::Relaxed) {
+        1 => Level::Sse2,
+        2 => Level::Avx2,
+        _ => detect(),
+    }
+}
+
+#[cold]
+fn detect() -> Level {
+    let best = Level::best();
+    let chosen = match std::env::var("PENUMBRA_SIMD") {
+        Ok(name) => match Level::parse(&name) {
+            Some(l) if l.supported() => l,
+            Some(l) => {
+                eprintln!("note: PENUMBRA_SIMD={name}: this CPU lacks {l}; using {best}");
+                best
+            }
+            None => {
+                let names: Vec<_> = Level::ALL.iter().map(|l| l.name()).collect();
+                eprintln!(
+                    "note: PENUMBRA_SIMD={name} is not one of {}; using {best}",
+                    names.join(", ")
+                );
+                best
+            }
+        },
+        Err(_) => best,
+    };
+    LEVEL.store(chosen as u8, Ordering::Relaxed);
+    chosen
+}
+
+/// Makes the kernels run at `level` from now on; an error if this CPU lacks it.
+pub fn set_level(level: Level) -> Result<(), String> {
+    if !level.supported() {
+        return Err(format!("this CPU does not run {level} kernels"));
+    }
+    LEVEL.store(level as u8, Ordering::Relaxed);
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_baseline_is_always_there() {
+        for l in Level::ALL {
+            assert_eq!(Level::parse(l.name()), Some(l));
+            assert_eq!(Level::parse(&l.name().to_uppercase()), Some(l));
+        }
+        assert_eq!(Level::parse("avx9"), None);
+        assert!(Level::Sse2.supported());
+        assert!(Level::best().supported());
+        assert!(level().supported());
+    }
+}
