@@ -3,7 +3,8 @@
 //! pixels, so a pixel's sum depends on how tiles group its neighbours: the tile size is
 //! then part of the image's definition; it is fixed by the driver, not by the user.)
 
-use penumbra::math::Rgb;
+use penumbra::math::simd::{self, Level};
+use penumbra::math::{Rgb, SamplerKind};
 use penumbra::renderer::integrators::IntegratorOptions;
 use penumbra::renderer::{render, Film, Integrator, RayCounts, RenderOptions, Scene};
 use penumbra::scene::{build_scene, SceneDesc, SourceFile};
@@ -265,4 +266,56 @@ fn smc_environment_sampling_is_identical_for_any_thread_count() {
     desc.render.spp = 3;
     desc.render.env.sampling = penumbra::renderer::integrators::EnvSampling::Smc;
     same_on_one_and_two_threads(&desc);
+}
+
+/// `desc` at `spp` samples per pixel with the kernels of `level`.
+fn render_at(level: Level, desc: &SceneDesc, spp: u32) -> Film {
+    simd::set_level(level).unwrap();
+    let scene = build_scene(desc).unwrap();
+    let integrator = desc.render.integrator.create(IntegratorOptions {
+        direct: desc.render.direct,
+        ..IntegratorOptions::default()
+    });
+    let options = RenderOptions {
+        spp,
+        seed: 11,
+        sampler: desc.render.sampler,
+        ..RenderOptions::default()
+    };
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let film = Film::new(scene.width, scene.height, false);
+    render(&scene, integrator.as_ref(), &options, film, &(), &cancel, &mut |_| {}).film
+}
+
+/// Images are bit-identical whichever SIMD kernels run (`penumbra::math::simd`): each
+/// level this CPU runs renders the same scenes, through the kernels compiled per level (the
+/// BVH's slab test, the Sobol sampler's lanes, the eight-lane Lambertian bounce), and the
+/// films must agree bit for bit. A level the CPU lacks is skipped with a note. (The level is
+/// global: other tests of this file running meanwhile see it change, which, by this very
+/// claim, changes none of their images.)
+#[test]
+fn every_level_renders_the_same_bits() {
+    let levels: Vec<Level> = Level::ALL.into_iter().filter(|l| l.supported()).collect();
+    for l in Level::ALL.iter().filter(|l| !l.supported()) {
+        println!("note: this CPU lacks {l}: its kernels are not exercised here");
+    }
+    // The path tracer's eight-lane Lambertian bounce (Sobol lanes, triangle BVH), and the
+    // scalar path over spheres, glossy materials and the environment light.
+    let mut cbox = repository_scene("cbox-mitsuba.toml", 64, 64);
+    cbox.render.sampler = SamplerKind::Sobol;
+    let scenes = [
+        ("cbox-mitsuba.toml", cbox, 8),
+        ("glossy-env.toml", repository_scene("glossy-env.toml", 48, 32), 4),
+        ("materials.toml", repository_scene("materials.toml", 48, 32), 4),
+    ];
+    for (name, desc, spp) in &scenes {
+        let reference = render_at(Level::Sse2, desc, *spp);
+        assert!(reference.samples() > 0, "{name}: rendered nothing");
+        for &level in &levels[1..] {
+            let film = render_at(level, desc, *spp);
+            assert!(film == reference, "{name}: {level} differs from sse2");
+            println!("{name}: {level} = sse2, bit for bit");
+        }
+    }
+    simd::set_level(Level::best()).unwrap();
 }

@@ -4,7 +4,7 @@
 //! process from what the CPU reports (`is_x86_feature_detected!`), the way Embree and
 //! Mitsuba's Dr.Jit pick theirs. Every kernel performs the same IEEE operations in the same
 //! order at every level (no fused multiply-adds), so images are bit-identical whichever
-//! level runs (`tests/simd_levels.rs` forces each one).
+//! level runs (`tests/determinism.rs` forces each one).
 //!
 //! `PENUMBRA_SIMD=sse2|avx2` caps the level (for testing, or to compare kernels).
 
