@@ -29,9 +29,13 @@ pub const ROUGH_BALLS: [(&str, &str, f64); 4] = [
         0.4,
     ),
     ("rough glass 0.3", "type = \"dielectric\"\nroughness = 0.3", 0.6),
+    // Mitsuba 3's rough plastic model (ours) loses much more than the bare GGX lobe: its
+    // base is seen through the coating's single-scattering transmittance, and Mitsuba's own
+    // `roughplastic` with a white base has albedo 0.69 at normal incidence and 0.66 at 70°
+    // for α = 0.3 (its `sample`, 100,000 draws, scalar_rgb).
     (
         "rough plastic 0.3",
         "type = \"plastic\"\ndiffuse = 1\nroughness = 0.3",
-        0.85,
+        0.65,
     ),
 ];

@@ -27,7 +27,7 @@ pub use conductor::{Conductor, MetalFresnel};
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
 pub use phong::PhongBsdf;
-pub use plastic::Plastic;
+pub use plastic::{Coating, Plastic};
 
 use glam::{Vec2, Vec3};
 use penumbra_core::Rgb;
@@ -131,7 +131,7 @@ pub enum BsdfKind<'a> {
     Phong(PhongBsdf),
     Conductor(Conductor),
     Dielectric(Dielectric),
-    Plastic(Plastic),
+    Plastic(Plastic<'a>),
     Blend(Blend<'a>),
 }
 

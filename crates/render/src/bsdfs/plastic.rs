@@ -5,8 +5,12 @@
 //! internal reflectance; Mitsuba's linear model), and leaves through it:
 //! f_diffuse = (1 - F(cos θi)) (1 - F(cos θo)) ρ / (π η² (1 - F_dr,int)).
 //! The smooth coating reflects as a mirror; the rough one by the isotropic GGX microfacet
-//! BRDF. For the rough coating the transmission factors use the smooth Fresnel term at the
-//! macroscopic angles (Mitsuba 3 tabulates the rough transmittance instead).
+//! BRDF. For a rough coating of constant roughness the factors are the rough ones, as
+//! Mitsuba 3's `roughplastic` tabulates them ([`Coating::rough`]): 1 - F becomes the
+//! albedo T(μ) of the coating's GGX transmission lobe, and F_dr,int the albedo of its
+//! reflection lobe seen from inside, 2 ∫ R_int(μ) μ dμ. Shadowing and masking make both
+//! smaller than the smooth terms, and the base darker: the smooth terms made the
+//! env-materials sphere 15% brighter than Mitsuba's.
 
 use super::microfacet::Ggx;
 use super::{reflect_z, BsdfSample, SpecularRays};
@@ -15,14 +19,107 @@ use glam::{Vec2, Vec3};
 use penumbra_core::{warp, Rgb};
 use std::f32::consts::FRAC_1_PI;
 
+/// Cosines at which [`Coating::rough`] tabulates the transmittance (Mitsuba's 64).
+const TABLE: usize = 64;
+
+/// What a material's coating lets through, worked out once per material: its diffuse
+/// internal reflectance, and for a rough coating its transmittance at [`TABLE`] cosines.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coating {
+    /// F_dr,int: the share of diffuse light from inside that the coating reflects back.
+    pub internal_reflectance: f32,
+    /// T(μ) at μ = k / (TABLE - 1); `None`: the smooth 1 - F(μ).
+    transmittance: Option<Box<[f32; TABLE]>>,
+}
+
+impl Coating {
+    /// A smooth coating of relative index `eta`.
+    pub fn smooth(eta: f32) -> Self {
+        Coating {
+            internal_reflectance: crate::optics::fresnel_diffuse_reflectance(1.0 / eta),
+            transmittance: None,
+        }
+    }
+
+    /// A rough coating of GGX roughness `ggx` (Mitsuba 3's `roughplastic` tables): the
+    /// transmittance T(μ, η) of [`lobe_transmittance`] at μ_k = max(1e-6, k / 63), and
+    /// F_dr,int = 2 mean_k R(μ_k, 1/η) μ_k.
+    pub fn rough(eta: f32, ggx: Ggx) -> Self {
+        let mu = |k: usize| (k as f32 / (TABLE - 1) as f32).max(1e-6);
+        let transmittance = Box::new(std::array::from_fn(|k| lobe_transmittance(ggx, mu(k), eta)));
+        let internal = (0..TABLE)
+            .map(|k| lobe_albedo(ggx, mu(k), 1.0 / eta) * mu(k))
+            .sum::<f32>();
+        Coating {
+            internal_reflectance: 2.0 * internal / TABLE as f32,
+            transmittance: Some(transmittance),
+        }
+    }
+
+    /// The share of light arriving at cosine `cos` that enters the coating (or leaves it
+    /// towards `cos`): the table linearly interpolated, or 1 - F.
+    fn transmittance(&self, cos: f32, eta: f32) -> f32 {
+        let Some(table) = &self.transmittance else {
+            return 1.0 - fresnel_dielectric(cos, eta);
+        };
+        let x = cos.clamp(0.0, 1.0) * (TABLE - 1) as f32;
+        let k = (x as usize).min(TABLE - 2);
+        let w = x - k as f32;
+        (1.0 - w) * table[k] + w * table[k + 1]
+    }
+}
+
+/// R(μ, η): the directional albedo ∫ F(wo·m) f_ggx(wo, wi) cos θi dωi of the GGX reflection
+/// lobe with the dielectric Fresnel term, seen from cos θo = μ; by the midpoint rule over
+/// the 2D sample space of [`Ggx::sample_reflection`] (visible normals), where the integrand
+/// is the sample's weight F G2 / G1 (32 x 32 cells).
+fn lobe_albedo(ggx: Ggx, mu: f32, eta: f32) -> f32 {
+    const N: usize = 32;
+    let wo = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
+    let mut sum = 0.0f64;
+    for i in 0..N {
+        for j in 0..N {
+            let u = Vec2::new((i as f32 + 0.5) / N as f32, (j as f32 + 0.5) / N as f32);
+            if let Some((wi, m)) = ggx.sample_reflection(wo, u) {
+                let pdf = ggx.reflection_pdf(wo, m);
+                if pdf > 0.0 {
+                    let f = fresnel_dielectric(wo.dot(m), eta) * ggx.reflection(wo, wi, m) * wi.z / pdf;
+                    sum += f as f64;
+                }
+            }
+        }
+    }
+    (sum / (N * N) as f64) as f32
+}
+
+/// T(μ, η): the share of light from cos θ = μ that the rough coating refracts into the
+/// base, E[(1 - F(wo·m)) G1(wt)] over normals m visible from wo, wt the refracted direction
+/// (Mitsuba 3's `eval_transmittance`); midpoint rule over the sample space, 32 x 32 cells.
+fn lobe_transmittance(ggx: Ggx, mu: f32, eta: f32) -> f32 {
+    const N: usize = 32;
+    let wo = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
+    let mut sum = 0.0f64;
+    for i in 0..N {
+        for j in 0..N {
+            let u = Vec2::new((i as f32 + 0.5) / N as f32, (j as f32 + 0.5) / N as f32);
+            let m = ggx.sample_visible(wo, u);
+            let cos = wo.dot(m);
+            if let Some(wt) = crate::optics::refract(wo, m, eta).filter(|wt| wt.z < 0.0 && cos > 0.0) {
+                sum += ((1.0 - fresnel_dielectric(cos, eta)) * ggx.g1(wt)) as f64;
+            }
+        }
+    }
+    (sum / (N * N) as f64) as f32
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Plastic {
+pub struct Plastic<'a> {
     pub diffuse: Rgb,
     pub specular: Rgb,
     /// Coating over exterior index of refraction.
     pub eta: f32,
-    /// The coating's diffuse internal reflectance F_dr,int (worked out once per material).
-    pub fdr_int: f32,
+    /// The coating's transmittance and internal reflectance (see [`Coating`]).
+    pub coating: &'a Coating,
     /// Share of the specular lobe in sampling, before Fresnel: mean specular over the sum
     /// of the mean diffuse and specular reflectances (as Mitsuba).
     pub specular_weight: f32,
@@ -30,12 +127,12 @@ pub struct Plastic {
     pub alpha: Option<Ggx>,
 }
 
-impl Plastic {
+impl Plastic<'_> {
     /// Probability of sampling the coating's reflection, seen from `wo`.
     fn specular_probability(&self, cos_o: f32) -> f32 {
-        let f = fresnel_dielectric(cos_o, self.eta);
-        let ps = f * self.specular_weight;
-        let pd = (1.0 - f) * (1.0 - self.specular_weight);
+        let t = self.coating.transmittance(cos_o, self.eta);
+        let ps = (1.0 - t) * self.specular_weight;
+        let pd = t * (1.0 - self.specular_weight);
         if ps + pd > 0.0 {
             ps / (ps + pd)
         } else {
@@ -44,8 +141,9 @@ impl Plastic {
     }
 
     fn diffuse_part(&self, cos_o: f32, cos_i: f32) -> Rgb {
-        let t = (1.0 - fresnel_dielectric(cos_i, self.eta)) * (1.0 - fresnel_dielectric(cos_o, self.eta));
-        self.diffuse * (t * FRAC_1_PI / (self.eta * self.eta * (1.0 - self.fdr_int)))
+        let c = self.coating;
+        let t = c.transmittance(cos_i, self.eta) * c.transmittance(cos_o, self.eta);
+        self.diffuse * (t * FRAC_1_PI / (self.eta * self.eta * (1.0 - c.internal_reflectance)))
     }
 
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
@@ -106,5 +204,73 @@ impl Plastic {
         if self.alpha.is_none() && wo.z > 0.0 {
             rays.push(reflect_z(wo), self.specular * fresnel_dielectric(wo.z, self.eta));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use penumbra_core::Pcg32;
+    use std::f32::consts::PI;
+
+    /// The quadrature of the lobe's albedo against an independent estimate: uniform
+    /// hemisphere sampling of F f cos θi 2π, 400,000 samples (4 standard errors plus the
+    /// quadrature's own error, 2e-3, allowed).
+    #[test]
+    fn lobe_albedo_agrees_with_uniform_sampling() {
+        let mut rng = Pcg32::new(5, 0);
+        for (alpha, mu, eta) in [(0.3, 0.5, 1.5), (0.15, 0.9, 1.49), (0.5, 0.2, 1.0 / 1.49)] {
+            let ggx = Ggx::new(alpha, alpha).unwrap();
+            let wo = Vec3::new((1.0f32 - mu * mu).sqrt(), 0.0, mu);
+            let n = 400_000;
+            let (mut sum, mut sq) = (0.0f64, 0.0f64);
+            for _ in 0..n {
+                let wi = warp::uniform_hemisphere(Vec2::new(rng.next_f32(), rng.next_f32()));
+                let v = match Ggx::reflection_half_vector(wo, wi) {
+                    Some(m) => {
+                        (fresnel_dielectric(wo.dot(m), eta) * ggx.reflection(wo, wi, m) * wi.z * 2.0 * PI) as f64
+                    }
+                    None => 0.0,
+                };
+                sum += v;
+                sq += v * v;
+            }
+            let mean = sum / n as f64;
+            let se = ((sq / n as f64 - mean * mean) / n as f64).sqrt();
+            let got = lobe_albedo(ggx, mu, eta) as f64;
+            assert!(
+                (got - mean).abs() < 4.0 * se + 2e-3,
+                "alpha {alpha} mu {mu} eta {eta}: quadrature {got} against {mean} +- {se}"
+            );
+        }
+    }
+
+    /// A nearly smooth rough coating has the smooth coating's terms: 1 - F(μ) within 0.01,
+    /// and F_dr,int within 2.5% (Mitsuba's 64-node mean straddles the jump of R_int to 1 at
+    /// the critical angle: about 1/64 of the jump, where the 1024-cell integral is exact).
+    #[test]
+    fn a_nearly_smooth_coating_has_the_smooth_terms() {
+        let eta = 1.49;
+        let rough = Coating::rough(eta, Ggx::new(0.01, 0.01).unwrap());
+        let smooth = Coating::smooth(eta);
+        for mu in [0.1f32, 0.3, 0.5, 0.8, 1.0] {
+            let (r, s) = (rough.transmittance(mu, eta), smooth.transmittance(mu, eta));
+            assert!((r - s).abs() < 0.01, "mu {mu}: rough {r}, smooth {s}");
+        }
+        let (r, s) = (rough.internal_reflectance, smooth.internal_reflectance);
+        assert!((r - s).abs() < 0.025 * s, "internal reflectance: rough {r}, smooth {s}");
+    }
+
+    /// Roughness loses light to shadowing and masking: the rough internal reflectance is
+    /// below the smooth one, and more so the rougher the coating.
+    #[test]
+    fn rougher_coatings_reflect_less_inside() {
+        let eta = 1.5;
+        let r = [0.05, 0.15, 0.4].map(|a| Coating::rough(eta, Ggx::new(a, a).unwrap()).internal_reflectance);
+        let smooth = Coating::smooth(eta).internal_reflectance;
+        assert!(
+            smooth > r[0] && r[0] > r[1] && r[1] > r[2],
+            "smooth {smooth}, rough {r:?}"
+        );
     }
 }

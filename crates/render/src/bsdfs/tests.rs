@@ -266,7 +266,9 @@ fn rough_surfaces_lose_energy_but_never_gain_it() {
                     mean <= 1.0 + 3.0 * se + 1e-4,
                     "{name} alpha {alpha} at {theta}: albedo {mean} +- {se} gains energy"
                 );
-                if alpha <= 0.1 && theta <= 40.0 {
+                // (Not plastic: its base under a rough coating loses more, as Mitsuba's
+                // does; `rough_plastic_albedo_is_mitsubas` checks how much.)
+                if alpha <= 0.1 && theta <= 40.0 && name != "plastic" {
                     assert!(
                         mean > 0.97,
                         "{name} alpha {alpha} at {theta}: albedo {mean} loses too much"
@@ -439,4 +441,34 @@ fn more_specular_rays_than_room_drop_the_weakest_and_say_so() {
         "dropped {} vs the five weakest {weakest}",
         rays.dropped()
     );
+}
+
+/// A white rough plastic's albedo is Mitsuba 3's `roughplastic`'s (GGX, default indices
+/// 1.49 / 1.000277, white base), measured with Mitsuba's own `sample` (100,000 draws each,
+/// scalar_rgb; standard errors about 0.002). Allowed: 0.015, our 40,000-draw standard error
+/// (below 0.001) and Mitsuba's, plus the two quadratures of the coating's tables (Mitsuba's
+/// Gauss-Legendre, our midpoint rule); seen: within 0.009 everywhere. The smooth coating's
+/// terms, used before, gave 0.98 at α = 0.1 and 0.85 at α = 0.3.
+#[test]
+fn rough_plastic_albedo_is_mitsubas() {
+    let eta = 1.49 / 1.000277;
+    let mitsuba = [
+        (0.1, [(0.0, 0.910), (40.0, 0.909), (70.0, 0.904)]),
+        (0.15, [(0.0, 0.854), (40.0, 0.852), (70.0, 0.839)]),
+        (0.3, [(0.0, 0.695), (40.0, 0.688), (70.0, 0.660)]),
+    ];
+    let mut seed = 70;
+    for (alpha, rows) in mitsuba {
+        let material = Material::plastic(grey(1.0), grey(1.0), eta, rough(alpha));
+        let bsdf = material.bsdf(Vec2::ZERO);
+        for (theta, want) in rows {
+            seed += 1;
+            let (mean, se) = albedo(&bsdf, view(theta), TransportMode::Importance, 40_000, seed);
+            println!("alpha {alpha} at {theta}: {mean:.4} +- {se:.4}, Mitsuba's {want}");
+            assert!(
+                (mean - want).abs() < 0.015,
+                "alpha {alpha} at {theta}: albedo {mean} +- {se}, Mitsuba's {want}"
+            );
+        }
+    }
 }

@@ -11,8 +11,7 @@ pub use metals::{metal_ior, METALS};
 pub use phong::Phong;
 
 use crate::bsdfs::microfacet::Ggx;
-use crate::bsdfs::{Blend, Bsdf, BsdfKind, Conductor, Dielectric, Diffuse, MetalFresnel, Plastic};
-use crate::optics::fresnel_diffuse_reflectance;
+use crate::bsdfs::{Blend, Bsdf, BsdfKind, Coating, Conductor, Dielectric, Diffuse, MetalFresnel, Plastic};
 use crate::Texture;
 use glam::{Vec2, Vec3};
 use penumbra_core::{Frame, Rgb};
@@ -67,8 +66,8 @@ pub enum Material {
         diffuse: Texture,
         specular: Texture,
         eta: f32,
-        /// The coating's diffuse internal reflectance, from [`Material::plastic`].
-        fdr_int: f32,
+        /// The coating's internal reflectance and transmittance, from [`Material::plastic`].
+        coating: Coating,
         roughness: Option<Roughness>,
     },
     /// (1 - weight) a + weight b.
@@ -100,13 +99,22 @@ impl Material {
         }
     }
 
-    /// A plastic material, its coating's internal reflectance worked out.
+    /// A plastic material, its coating's transmittance and internal reflectance worked
+    /// out: the rough ones for a constant roughness, else the smooth ones (a textured
+    /// roughness has no one table).
     pub fn plastic(diffuse: Texture, specular: Texture, eta: f32, roughness: Option<Roughness>) -> Self {
+        let constant = roughness
+            .as_ref()
+            .filter(|r| matches!(r.alpha_u, Texture::Constant(_)) && matches!(r.alpha_v, Texture::Constant(_)));
+        let coating = match constant.and_then(|r| r.at(Vec2::ZERO)) {
+            Some(g) => Coating::rough(eta, Ggx { ax: g.ax, ay: g.ax }),
+            None => Coating::smooth(eta),
+        };
         Material::Plastic {
             diffuse,
             specular,
             eta,
-            fdr_int: fresnel_diffuse_reflectance(1.0 / eta),
+            coating,
             roughness,
         }
     }
@@ -164,7 +172,7 @@ impl Material {
                 diffuse,
                 specular,
                 eta,
-                fdr_int,
+                coating,
                 roughness,
             } => {
                 let (diffuse, specular) = (diffuse.eval(uv), specular.eval(uv));
@@ -173,7 +181,7 @@ impl Material {
                     diffuse,
                     specular,
                     eta: *eta,
-                    fdr_int: *fdr_int,
+                    coating,
                     specular_weight: if d + s > 0.0 { s / (d + s) } else { 0.0 },
                     alpha: rough(roughness).map(|g| Ggx { ax: g.ax, ay: g.ax }),
                 })
