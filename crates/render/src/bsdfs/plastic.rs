@@ -23,7 +23,7 @@ use std::f32::consts::FRAC_1_PI;
 const TABLE: usize = 64;
 
 /// What a material's coating lets through, worked out once per material: its diffuse
-/// internal reflectance, and for a rough coating its transmittance at [`TABLE`] cosines.
+/// internal reflectance, and for a rough coating its transmittance at 64 cosines.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Coating {
     /// F_dr,int: the share of diffuse light from inside that the coating reflects back.
@@ -42,7 +42,7 @@ impl Coating {
     }
 
     /// A rough coating of GGX roughness `ggx` (Mitsuba 3's `roughplastic` tables): the
-    /// transmittance T(μ, η) of [`lobe_transmittance`] at μ_k = max(1e-6, k / 63), and
+    /// transmittance T(μ, η) of `lobe_transmittance` at μ_k = max(1e-6, k / 63), and
     /// F_dr,int = 2 mean_k R(μ_k, 1/η) μ_k.
     pub fn rough(eta: f32, ggx: Ggx) -> Self {
         let mu = |k: usize| (k as f32 / (TABLE - 1) as f32).max(1e-6);
