@@ -69,47 +69,47 @@ impl Coating {
     }
 }
 
-/// R(μ, η): the directional albedo ∫ F(wo·m) f_ggx(wo, wi) cos θi dωi of the GGX reflection
-/// lobe with the dielectric Fresnel term, seen from cos θo = μ; by the midpoint rule over
-/// the 2D sample space of [`Ggx::sample_reflection`] (visible normals), where the integrand
-/// is the sample's weight F G2 / G1 (32 x 32 cells).
-fn lobe_albedo(ggx: Ggx, mu: f32, eta: f32) -> f32 {
+/// The mean of `f(wo, u)` over the unit square by the midpoint rule on 32 x 32 cells, with
+/// wo the direction at cos θ = μ in the xz-plane: the quadrature of the coating's tables.
+fn over_sample_space(mu: f32, f: impl Fn(Vec3, Vec2) -> f32) -> f32 {
     const N: usize = 32;
     let wo = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
-    let mut sum = 0.0f64;
-    for i in 0..N {
-        for j in 0..N {
-            let u = Vec2::new((i as f32 + 0.5) / N as f32, (j as f32 + 0.5) / N as f32);
-            if let Some((wi, m)) = ggx.sample_reflection(wo, u) {
-                let pdf = ggx.reflection_pdf(wo, m);
-                if pdf > 0.0 {
-                    let f = fresnel_dielectric(wo.dot(m), eta) * ggx.reflection(wo, wi, m) * wi.z / pdf;
-                    sum += f as f64;
-                }
-            }
-        }
-    }
+    let cell = |k: usize| (k as f32 + 0.5) / N as f32;
+    let sum: f64 = (0..N * N)
+        .map(|k| f(wo, Vec2::new(cell(k / N), cell(k % N))) as f64)
+        .sum();
     (sum / (N * N) as f64) as f32
+}
+
+/// R(μ, η): the directional albedo ∫ F(wo·m) f_ggx(wo, wi) cos θi dωi of the GGX reflection
+/// lobe with the dielectric Fresnel term, seen from cos θo = μ; over the 2D sample space of
+/// [`Ggx::sample_reflection`] (visible normals), where the integrand is the sample's weight.
+fn lobe_albedo(ggx: Ggx, mu: f32, eta: f32) -> f32 {
+    over_sample_space(mu, |wo, u| {
+        let Some((wi, m)) = ggx.sample_reflection(wo, u) else {
+            return 0.0;
+        };
+        let pdf = ggx.reflection_pdf(wo, m);
+        if pdf > 0.0 {
+            fresnel_dielectric(wo.dot(m), eta) * ggx.reflection(wo, wi, m) * wi.z / pdf
+        } else {
+            0.0
+        }
+    })
 }
 
 /// T(μ, η): the share of light from cos θ = μ that the rough coating refracts into the
 /// base, E[(1 - F(wo·m)) G1(wt)] over normals m visible from wo, wt the refracted direction
-/// (Mitsuba 3's `eval_transmittance`); midpoint rule over the sample space, 32 x 32 cells.
+/// (Mitsuba 3's `eval_transmittance`).
 fn lobe_transmittance(ggx: Ggx, mu: f32, eta: f32) -> f32 {
-    const N: usize = 32;
-    let wo = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
-    let mut sum = 0.0f64;
-    for i in 0..N {
-        for j in 0..N {
-            let u = Vec2::new((i as f32 + 0.5) / N as f32, (j as f32 + 0.5) / N as f32);
-            let m = ggx.sample_visible(wo, u);
-            let cos = wo.dot(m);
-            if let Some(wt) = crate::optics::refract(wo, m, eta).filter(|wt| wt.z < 0.0 && cos > 0.0) {
-                sum += ((1.0 - fresnel_dielectric(cos, eta)) * ggx.g1(wt)) as f64;
-            }
+    over_sample_space(mu, |wo, u| {
+        let m = ggx.sample_visible(wo, u);
+        let cos = wo.dot(m);
+        match crate::optics::refract(wo, m, eta) {
+            Some(wt) if wt.z < 0.0 && cos > 0.0 => (1.0 - fresnel_dielectric(cos, eta)) * ggx.g1(wt),
+            _ => 0.0,
         }
-    }
-    (sum / (N * N) as f64) as f32
+    })
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
