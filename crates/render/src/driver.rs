@@ -18,11 +18,11 @@
 //! pass and resumed from its film ends exactly where an uninterrupted one does. A raised
 //! cancel flag or a spent time budget stops the render between passes.
 
+use crate::film::Splat;
 use crate::film::{add_aov, Pixel, AOV_CHANNELS};
-use crate::filter::{FilterSampler, FilterTable};
-use crate::integrators::Splat;
-use crate::integrators::BATCH;
-use crate::{Film, Integrator, RayCounts, Scene};
+use crate::filter::Filters;
+use crate::interface::{Integrator, Progress, RayCounts};
+use crate::{Film, Scene};
 use glam::{UVec2, Vec2};
 use penumbra_core::{PixelSampler, Ray, Rgb, SamplerKind};
 use rayon::prelude::*;
@@ -54,17 +54,6 @@ impl Default for RenderOptions {
             aovs: false,
         }
     }
-}
-
-/// Receives progress reports from the worker threads.
-pub trait Progress: Sync {
-    /// `samples` more samples are done, for which `rays` rays were traced.
-    fn advance(&self, samples: u64, rays: u64);
-}
-
-/// A progress sink that ignores reports.
-impl Progress for () {
-    fn advance(&self, _: u64, _: u64) {}
 }
 
 /// Why a render stopped.
@@ -223,100 +212,6 @@ fn run_passes(
         notes: Vec::new(),
     };
     RenderResult { film, stats }
-}
-
-/// The pixel filter, tabulated once per render: sampled (narrow filters) or splatted.
-pub struct Filters {
-    sampler: FilterSampler,
-    /// For filters wider than a pixel.
-    splat: Option<FilterTable>,
-    /// Pixels a splat reaches beyond a tile's edge (0 without splatting).
-    margin: u32,
-    /// The filter for the film's splat layer, whatever its width, and for each column and
-    /// row of pixels the factor that makes it integrate to one over the image: a pixel's
-    /// value is ∫ f(x - c) L(x) dx / ∫ f(x - c) dx over the image (what the weighted mean
-    /// of its samples estimates, or filter importance sampling), so near the borders the
-    /// factor is larger, and splats lose no light off the image's edge.
-    layer: FilterTable,
-    columns: Vec<f32>,
-    rows: Vec<f32>,
-}
-
-impl Filters {
-    fn new(scene: &Scene) -> Self {
-        let radius = scene.filter.radius();
-        let splat = radius > 0.5;
-        let table = FilterTable::new(&scene.filter);
-        // ∫ f over [lo, hi] ∩ [-r, r], by the trapezoid rule on 1024 intervals.
-        let integral = |lo: f64, hi: f64| -> f64 {
-            let (lo, hi) = (lo.max(-radius as f64), hi.min(radius as f64));
-            if hi <= lo {
-                return 0.0;
-            }
-            let n = 1024;
-            let step = (hi - lo) / n as f64;
-            (0..=n)
-                .map(|i| {
-                    let w = if i == 0 || i == n { 0.5 } else { 1.0 };
-                    w * scene.filter.eval_1d((lo + i as f64 * step) as f32) as f64
-                })
-                .sum::<f64>()
-                * step
-        };
-        // Pixel centre c = k + 1/2 of a side of n pixels: ∫ f(x - c) over x in [0, n].
-        let factors = |n: u32| -> Vec<f32> {
-            (0..n)
-                .map(|k| {
-                    let c = k as f64 + 0.5;
-                    let mass = integral(-c, n as f64 - c);
-                    if mass > 0.0 {
-                        (1.0 / mass) as f32
-                    } else {
-                        0.0
-                    }
-                })
-                .collect()
-        };
-        Filters {
-            sampler: FilterSampler::new(scene.filter),
-            splat: splat.then(|| table.clone()),
-            margin: if splat { (radius - 0.5).ceil() as u32 } else { 0 },
-            layer: table,
-            columns: factors(scene.width),
-            rows: factors(scene.height),
-        }
-    }
-
-    /// An offset from a pixel's centre drawn from the pixel filter, and its weight
-    /// f / pdf (about 1): filter importance sampling (Ernst et al. 2006), for integrators
-    /// that estimate each pixel by one point per pass.
-    pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
-        self.sampler.sample(u)
-    }
-
-    /// Adds `value`, landing at film position `film`, to every pixel of a `width` x
-    /// `height` film within the filter's radius, with the normalised filter's weight.
-    pub fn splat(&self, s: &Splat, (width, height): (u32, u32), out: &mut Vec<(u32, u32, Rgb)>) {
-        let (film, value) = (s.film, s.value);
-        let table = &self.layer;
-        let r = table.radius();
-        let lo = (film - Vec2::splat(r + 0.5)).ceil().max(Vec2::ZERO);
-        let hi = (film + Vec2::splat(r - 0.5)).floor();
-        if hi.x < 0.0 || hi.y < 0.0 {
-            return;
-        }
-        let x1 = (hi.x as u32).min(width - 1);
-        let y1 = (hi.y as u32).min(height - 1);
-        for py in lo.y as u32..=y1 {
-            let wy = table.eval(py as f32 + 0.5 - film.y) * self.rows[py as usize];
-            for px in lo.x as u32..=x1 {
-                let w = wy * table.eval(px as f32 + 0.5 - film.x) * self.columns[px as usize];
-                if w != 0.0 {
-                    out.push((s.layer, py * width + px, value * w));
-                }
-            }
-        }
-    }
 }
 
 /// Sample `index` of every pixel, tile by tile in parallel, added to `film` in tile order.
@@ -479,15 +374,16 @@ fn render_tile(
         splats: batch_splats,
         ..
     } = scratch;
-    let batch_size = BATCH.min(pixel_count);
+    let batch = integrator.batch_size().max(1);
+    let batch_size = batch.min(pixel_count);
     samplers.resize(batch_size, sampler);
     radiance.resize(batch_size, Rgb::BLACK);
-    for batch in (0..pixel_count).step_by(BATCH) {
-        let lanes = BATCH.min(pixel_count - batch);
+    for batch_start in (0..pixel_count).step_by(batch) {
+        let lanes = batch.min(pixel_count - batch_start);
         rays_in.clear();
         film_positions.clear();
         let pixel_of = |lane: usize| {
-            let i = (batch + lane) as u32;
+            let i = (batch_start + lane) as u32;
             tile.origin + UVec2::new(i % tile.size.x, i / tile.size.x)
         };
         for (lane, sampler) in samplers[..lanes].iter_mut().enumerate() {

@@ -155,6 +155,105 @@ impl FilterSampler {
     }
 }
 
+/// The pixel filter, tabulated once per render: sampled (narrow filters) or splatted.
+pub struct Filters {
+    pub(crate) sampler: FilterSampler,
+    /// For filters wider than a pixel.
+    pub(crate) splat: Option<FilterTable>,
+    /// Pixels a splat reaches beyond a tile's edge (0 without splatting).
+    pub(crate) margin: u32,
+    /// The filter for the film's splat layer, whatever its width, and for each column and
+    /// row of pixels the factor that makes it integrate to one over the image: a pixel's
+    /// value is ∫ f(x - c) L(x) dx / ∫ f(x - c) dx over the image (what the weighted mean
+    /// of its samples estimates, or filter importance sampling), so near the borders the
+    /// factor is larger, and splats lose no light off the image's edge.
+    pub(crate) layer: FilterTable,
+    pub(crate) columns: Vec<f32>,
+    pub(crate) rows: Vec<f32>,
+}
+
+impl Filters {
+    pub(crate) fn new(scene: &crate::Scene) -> Self {
+        let radius = scene.filter.radius();
+        let splat = radius > 0.5;
+        let table = FilterTable::new(&scene.filter);
+        // ∫ f over [lo, hi] ∩ [-r, r], by the trapezoid rule on 1024 intervals.
+        let integral = |lo: f64, hi: f64| -> f64 {
+            let (lo, hi) = (lo.max(-radius as f64), hi.min(radius as f64));
+            if hi <= lo {
+                return 0.0;
+            }
+            let n = 1024;
+            let step = (hi - lo) / n as f64;
+            (0..=n)
+                .map(|i| {
+                    let w = if i == 0 || i == n { 0.5 } else { 1.0 };
+                    w * scene.filter.eval_1d((lo + i as f64 * step) as f32) as f64
+                })
+                .sum::<f64>()
+                * step
+        };
+        // Pixel centre c = k + 1/2 of a side of n pixels: ∫ f(x - c) over x in [0, n].
+        let factors = |n: u32| -> Vec<f32> {
+            (0..n)
+                .map(|k| {
+                    let c = k as f64 + 0.5;
+                    let mass = integral(-c, n as f64 - c);
+                    if mass > 0.0 {
+                        (1.0 / mass) as f32
+                    } else {
+                        0.0
+                    }
+                })
+                .collect()
+        };
+        Filters {
+            sampler: FilterSampler::new(scene.filter),
+            splat: splat.then(|| table.clone()),
+            margin: if splat { (radius - 0.5).ceil() as u32 } else { 0 },
+            layer: table,
+            columns: factors(scene.width),
+            rows: factors(scene.height),
+        }
+    }
+
+    /// An offset from a pixel's centre drawn from the pixel filter, and its weight
+    /// f / pdf (about 1): filter importance sampling (Ernst et al. 2006), for integrators
+    /// that estimate each pixel by one point per pass.
+    pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
+        self.sampler.sample(u)
+    }
+
+    /// Adds `value`, landing at film position `film`, to every pixel of a `width` x
+    /// `height` film within the filter's radius, with the normalised filter's weight.
+    pub fn splat(
+        &self,
+        s: &crate::film::Splat,
+        (width, height): (u32, u32),
+        out: &mut Vec<(u32, u32, penumbra_core::Rgb)>,
+    ) {
+        let (film, value) = (s.film, s.value);
+        let table = &self.layer;
+        let r = table.radius();
+        let lo = (film - Vec2::splat(r + 0.5)).ceil().max(Vec2::ZERO);
+        let hi = (film + Vec2::splat(r - 0.5)).floor();
+        if hi.x < 0.0 || hi.y < 0.0 {
+            return;
+        }
+        let x1 = (hi.x as u32).min(width - 1);
+        let y1 = (hi.y as u32).min(height - 1);
+        for py in lo.y as u32..=y1 {
+            let wy = table.eval(py as f32 + 0.5 - film.y) * self.rows[py as usize];
+            for px in lo.x as u32..=x1 {
+                let w = wy * table.eval(px as f32 + 0.5 - film.x) * self.columns[px as usize];
+                if w != 0.0 {
+                    out.push((s.layer, py * width + px, value * w));
+                }
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

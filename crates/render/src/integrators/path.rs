@@ -93,6 +93,11 @@ impl<const N: usize> Shadows<'_, N> {
 }
 
 impl Integrator for PathTracer {
+    /// The wavefront's batch: [`BATCH`] paths traced and shaded together.
+    fn batch_size(&self) -> usize {
+        BATCH
+    }
+
     fn li(
         &self,
         scene: &Scene,

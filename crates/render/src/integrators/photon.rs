@@ -21,7 +21,7 @@
 use super::photons::{trace_photons, walk, Photon, PhotonMap, VisiblePoint};
 use super::{Integrator, IntegratorOptions, RayCounts, Splat};
 use crate::bsdfs::TransportMode;
-use crate::driver::Progress;
+use crate::interface::Progress;
 use crate::Scene;
 use penumbra_core::{PixelSampler, Ray, Rgb};
 use std::sync::RwLock;

@@ -18,7 +18,8 @@
 
 use super::photons::{trace_photons, walk, Photon, PhotonMap};
 use super::{Integrator, IntegratorOptions, PassIntegrator, RayCounts, Splat};
-use crate::driver::{Filters, Progress};
+use crate::filter::Filters;
+use crate::interface::Progress;
 use crate::{Film, Scene};
 use glam::{UVec2, Vec2};
 use penumbra_core::{PixelSampler, Ray, Rgb, SamplerKind};

@@ -26,7 +26,7 @@ mod smc;
 use super::nee::Shading;
 use super::{Integrator, MisHeuristic, PassIntegrator, RayCounts, Splat};
 use crate::bsdfs::TransportMode;
-use crate::driver::Progress;
+use crate::interface::Progress;
 use crate::lights::Environment;
 use crate::Scene;
 use glam::{Vec2, Vec3};

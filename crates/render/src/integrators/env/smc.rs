@@ -35,9 +35,10 @@
 
 use super::resample::systematic;
 use super::{EnvDirect, Target};
-use crate::driver::{Filters, Progress};
 use crate::film::Pixel;
+use crate::filter::Filters;
 use crate::integrators::{PassIntegrator, RayCounts};
+use crate::interface::Progress;
 use crate::{Film, Scene};
 use glam::{UVec2, Vec2, Vec3};
 use penumbra_core::hash::hash_words;

@@ -30,7 +30,8 @@ pub use sampler::PrimarySamples;
 
 use super::bdpt::{Bdpt, PerLength};
 use super::{Integrator, IntegratorOptions, PassIntegrator, RayCounts, Splat};
-use crate::driver::{Filters, Progress};
+use crate::filter::Filters;
+use crate::interface::Progress;
 use crate::{Film, Scene};
 use glam::Vec2;
 use penumbra_core::{Distribution1D, Draws, PixelSampler, Ray, Rgb};
