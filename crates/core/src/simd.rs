@@ -1,6 +1,7 @@
 //! Run-time choice of the SIMD kernels. The binary is built for the baseline x86-64 target
 //! (SSE2); the kernels that gain from wider registers (the BVH's eight-box slab test, the
-//! Sobol sampler's integer lanes) also exist compiled for AVX2 and are picked once per
+//! Sobol sampler's integer lanes, the eight-lane Lambertian bounce in
+//! [`crate::lanes_avx::F8Avx`]) also exist compiled for AVX2 and are picked once per
 //! process from what the CPU reports (`is_x86_feature_detected!`), the way Embree and
 //! Mitsuba's Dr.Jit pick theirs. Every kernel performs the same IEEE operations in the same
 //! order at every level (no fused multiply-adds), so images are bit-identical whichever

@@ -32,10 +32,12 @@ pub const ROUGH_BALLS: [(&str, &str, f64); 4] = [
     // Mitsuba 3's rough plastic model (ours) loses much more than the bare GGX lobe: its
     // base is seen through the coating's single-scattering transmittance, and Mitsuba's own
     // `roughplastic` with a white base has albedo 0.69 at normal incidence and 0.66 at 70°
-    // for α = 0.3 (its `sample`, 100,000 draws, scalar_rgb).
+    // for α = 0.3 (its `sample`, 100,000 draws, scalar_rgb). Ours in the furnace: 0.689-0.693
+    // for bdpt, mlt, sppm and photon (standard errors 0.001-0.002); the floor is 10 of them
+    // below.
     (
         "rough plastic 0.3",
         "type = \"plastic\"\ndiffuse = 1\nroughness = 0.3",
-        0.65,
+        0.67,
     ),
 ];

@@ -165,6 +165,7 @@ mod tests {
                 }
                 let got = sample_lanes(&pattern, &index_reversed, two);
                 assert_eq!(got.0.map(f32::to_bits), want.0.map(f32::to_bits), "round {round}");
+                assert_eq!(got.1.map(f32::to_bits), want.1.map(f32::to_bits), "round {round}");
             }
         }
     }

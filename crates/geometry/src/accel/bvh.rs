@@ -242,23 +242,7 @@ impl<P: PrimitiveSet> Bvh<P> {
         );
         closest
     }
-}
 
-/// The traversals compiled for AVX2: the whole loop, with the eight-wide slab test.
-#[cfg(target_arch = "x86_64")]
-impl<P: PrimitiveSet> Bvh<P> {
-    #[target_feature(enable = "avx2")]
-    unsafe fn closest_avx2<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
-        self.closest_hit::<C, true>(ray, t_max, stats)
-    }
-
-    #[target_feature(enable = "avx2")]
-    unsafe fn any_hit_avx2(&self, ray: &Ray, t_max: f32) -> bool {
-        self.any_hit_kernel::<true>(ray, t_max)
-    }
-}
-
-impl<P: PrimitiveSet> Bvh<P> {
     #[inline(always)]
     fn any_hit_kernel<const AVX: bool>(&self, ray: &Ray, t_max: f32) -> bool {
         let data = self.prims.prepare(ray);
@@ -280,6 +264,20 @@ impl<P: PrimitiveSet> Bvh<P> {
             },
         );
         hit
+    }
+}
+
+/// The traversals compiled for AVX2: the whole loop, with the eight-wide slab test.
+#[cfg(target_arch = "x86_64")]
+impl<P: PrimitiveSet> Bvh<P> {
+    #[target_feature(enable = "avx2")]
+    unsafe fn closest_avx2<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+        self.closest_hit::<C, true>(ray, t_max, stats)
+    }
+
+    #[target_feature(enable = "avx2")]
+    unsafe fn any_hit_avx2(&self, ray: &Ray, t_max: f32) -> bool {
+        self.any_hit_kernel::<true>(ray, t_max)
     }
 }
 

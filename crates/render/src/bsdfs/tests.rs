@@ -447,8 +447,7 @@ fn more_specular_rays_than_room_drop_the_weakest_and_say_so() {
 /// 1.49 / 1.000277, white base), measured with Mitsuba's own `sample` (100,000 draws each,
 /// scalar_rgb; standard errors about 0.002). Allowed: 0.015, our 40,000-draw standard error
 /// (below 0.001) and Mitsuba's, plus the two quadratures of the coating's tables (Mitsuba's
-/// Gauss-Legendre, our midpoint rule); seen: within 0.009 everywhere. The smooth coating's
-/// terms, used before, gave 0.98 at α = 0.1 and 0.85 at α = 0.3.
+/// Gauss-Legendre, our midpoint rule); seen: within 0.009 everywhere.
 #[test]
 fn rough_plastic_albedo_is_mitsubas() {
     let eta = 1.49 / 1.000277;
