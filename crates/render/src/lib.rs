@@ -11,6 +11,7 @@ pub mod interface;
 pub mod lights;
 pub mod materials;
 pub mod optics;
+pub mod phase;
 mod scene;
 pub mod texture;
 

@@ -2,7 +2,7 @@
 //! picks one by its weight; a smooth direction is then weighted by the whole mixture's f
 //! and density, so that multiple importance sampling sees one BSDF.
 
-use super::{Bsdf, BsdfSample, SpecularRays, TransportMode};
+use super::{Bsdf, BsdfModel, BsdfSample, SpecularRays, TransportMode};
 use crate::Material;
 use glam::{Vec2, Vec3};
 use penumbra_core::Rgb;
@@ -24,16 +24,18 @@ impl<'a> Blend<'a> {
             (self.weight, self.b.bsdf(self.uv)),
         ]
     }
+}
 
-    pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
+impl BsdfModel for Blend<'_> {
+    fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
         mixture_eval(&self.parts(), wo, wi, mode)
     }
 
-    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
         mixture_pdf(&self.parts(), wo, wi, mode)
     }
 
-    pub fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
         let parts = self.parts();
         let [(wa, a), (wb, b)] = parts;
         let (chosen, p, u) = if u < wa {
@@ -53,7 +55,7 @@ impl<'a> Blend<'a> {
         })
     }
 
-    pub fn specular_rays(&self, wo: Vec3, mode: TransportMode, rays: &mut SpecularRays) {
+    fn specular_rays(&self, wo: Vec3, mode: TransportMode, rays: &mut SpecularRays) {
         for (w, b) in self.parts() {
             if w > 0.0 {
                 rays.extend_scaled(&b.specular_rays(wo, mode), w);
@@ -61,11 +63,11 @@ impl<'a> Blend<'a> {
         }
     }
 
-    pub fn has_smooth(&self) -> bool {
+    fn has_smooth(&self) -> bool {
         self.parts().iter().any(|(w, b)| *w > 0.0 && b.has_smooth())
     }
 
-    pub fn albedo(&self) -> Rgb {
+    fn albedo(&self) -> Rgb {
         self.parts().iter().fold(Rgb::BLACK, |a, (w, b)| a + b.albedo() * *w)
     }
 }

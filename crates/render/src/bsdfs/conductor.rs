@@ -8,7 +8,7 @@
 //! appendix B defines it.
 
 use super::microfacet::Ggx;
-use super::{reflect_z, BsdfSample, SpecularRays};
+use super::{reflect_z, BsdfModel, BsdfSample, SpecularRays, TransportMode};
 use crate::optics::fresnel_conductor;
 use glam::{Vec2, Vec3};
 use penumbra_core::Rgb;
@@ -32,7 +32,8 @@ pub struct Conductor {
 }
 
 impl Conductor {
-    fn fresnel(&self, cos: f32) -> Rgb {
+    /// F(cos) per channel, tinted by `specular`.
+    pub(crate) fn fresnel(&self, cos: f32) -> Rgb {
         match self.fresnel {
             MetalFresnel::Complex { eta, k } => {
                 Rgb::new(
@@ -47,22 +48,24 @@ impl Conductor {
             }
         }
     }
+}
 
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
+impl BsdfModel for Conductor {
+    fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Rgb {
         match (self.alpha, Ggx::reflection_half_vector(wo, wi)) {
             (Some(ggx), Some(m)) => self.fresnel(wo.dot(m)) * ggx.reflection(wo, wi, m),
             _ => Rgb::BLACK,
         }
     }
 
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {
         match (self.alpha, Ggx::reflection_half_vector(wo, wi)) {
             (Some(ggx), Some(m)) => ggx.reflection_pdf(wo, m),
             _ => 0.0,
         }
     }
 
-    pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, _u: f32, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
@@ -85,9 +88,17 @@ impl Conductor {
         })
     }
 
-    pub fn specular_rays(&self, wo: Vec3, rays: &mut SpecularRays) {
+    fn specular_rays(&self, wo: Vec3, _mode: TransportMode, rays: &mut SpecularRays) {
         if self.alpha.is_none() && wo.z > 0.0 {
             rays.push(reflect_z(wo), self.fresnel(wo.z));
         }
+    }
+
+    fn has_smooth(&self) -> bool {
+        self.alpha.is_some()
+    }
+
+    fn albedo(&self) -> Rgb {
+        self.specular
     }
 }

@@ -1,7 +1,7 @@
 //! Lambertian reflection: f = ρ / π on the front side, sampled by the cosine-weighted
 //! hemisphere (Malley's method), so that the weight f cos θ / pdf is ρ.
 
-use super::{same_hemisphere, BsdfSample};
+use super::{same_hemisphere, BsdfModel, BsdfSample, TransportMode};
 use glam::{Vec2, Vec3};
 use penumbra_core::{warp, Rgb};
 use std::f32::consts::FRAC_1_PI;
@@ -11,8 +11,8 @@ pub struct Diffuse {
     pub reflectance: Rgb,
 }
 
-impl Diffuse {
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
+impl BsdfModel for Diffuse {
+    fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Rgb {
         if wo.z > 0.0 && wi.z > 0.0 {
             self.reflectance * FRAC_1_PI
         } else {
@@ -20,7 +20,7 @@ impl Diffuse {
         }
     }
 
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {
         if wo.z > 0.0 && same_hemisphere(wo, wi) {
             warp::cosine_hemisphere_pdf(wi)
         } else {
@@ -28,7 +28,7 @@ impl Diffuse {
         }
     }
 
-    pub fn sample(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, _u: f32, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
@@ -41,5 +41,13 @@ impl Diffuse {
             delta: false,
             eta: 1.0,
         })
+    }
+
+    fn has_smooth(&self) -> bool {
+        !self.reflectance.is_black()
+    }
+
+    fn albedo(&self) -> Rgb {
+        self.reflectance
     }
 }

@@ -9,23 +9,27 @@
 //! included), so that multiple importance sampling can weigh light samples against it.
 //! [`Bsdf::specular_rays`] lists the delta lobes for the Whitted and direct integrators.
 //!
-//! Adding a BSDF: a new file with `eval`, `sample`, `pdf` and `specular_rays`, one variant
-//! in [`BsdfKind`] and one arm in each `match` below.
+//! Adding a BSDF: a new file whose type implements [`BsdfModel`], and one line in the
+//! `bsdf_kinds!` registry below (its variant in [`BsdfKind`] and its name).
 
 mod blend;
 mod conductor;
 mod dielectric;
 mod diffuse;
+mod layered;
 pub mod microfacet;
 mod phong;
 mod plastic;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_table;
 
 pub use blend::Blend;
 pub use conductor::{Conductor, MetalFresnel};
-pub use dielectric::Dielectric;
+pub use dielectric::{Dielectric, Lobe};
 pub use diffuse::Diffuse;
+pub use layered::{LayerBase, Layered};
 pub use phong::PhongBsdf;
 pub use plastic::{Coating, Plastic};
 
@@ -39,6 +43,16 @@ pub enum TransportMode {
     #[default]
     Radiance,
     Importance,
+}
+
+impl TransportMode {
+    /// The other quantity: what a path traced from the far end carries.
+    pub fn adjoint(self) -> Self {
+        match self {
+            TransportMode::Radiance => TransportMode::Importance,
+            TransportMode::Importance => TransportMode::Radiance,
+        }
+    }
 }
 
 /// A direction drawn by [`Bsdf::sample`].
@@ -124,15 +138,107 @@ impl SpecularRays {
     }
 }
 
-/// The scattering functions this renderer knows.
-#[derive(Clone, Copy, Debug)]
-pub enum BsdfKind<'a> {
-    Diffuse(Diffuse),
-    Phong(PhongBsdf),
-    Conductor(Conductor),
-    Dielectric(Dielectric),
-    Plastic(Plastic<'a>),
-    Blend(Blend<'a>),
+/// What every scattering function provides; each kind's file implements it for its type.
+/// Directions are in the local shading frame, as the module documentation says.
+pub trait BsdfModel {
+    /// f(wo, wi) of the non-delta part, without the cosine.
+    fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb;
+    /// Density with which `sample` produces the non-delta direction `wi`.
+    fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32;
+    /// A direction from the whole BSDF: `u` chooses among lobes, `u2` within one.
+    fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample>;
+    /// The perfectly specular rays leaving towards `wo` (none by default).
+    fn specular_rays(&self, _wo: Vec3, _mode: TransportMode, _rays: &mut SpecularRays) {}
+    /// Whether there is a non-delta part (worth sampling lights for).
+    fn has_smooth(&self) -> bool;
+    /// A colour for the albedo AOV and ambient light.
+    fn albedo(&self) -> Rgb;
+    /// Whether `eval` and `pdf` are unbiased estimates by random walks (layered BSDFs)
+    /// rather than closed forms: the test table checks such a kind in expectation, and its
+    /// sample weight is the walk's, not eval |cos| / pdf.
+    fn stochastic(&self) -> bool {
+        false
+    }
+}
+
+/// The registry of BSDF kinds: one line per kind (variant, type, name) generates
+/// [`BsdfKind`], its static dispatch and [`BsdfKind::NAMES`], which the test table checks
+/// it covers. Adding a BSDF: its file, implementing [`BsdfModel`], and one line here.
+macro_rules! bsdf_kinds {
+    ($lt:lifetime; $($variant:ident($ty:ty) = $name:literal),* $(,)?) => {
+        /// The scattering functions this renderer knows.
+        #[derive(Clone, Copy, Debug)]
+        pub enum BsdfKind<$lt> {
+            $($variant($ty)),*
+        }
+
+        impl<$lt> BsdfKind<$lt> {
+            /// Every kind's name, in registry order.
+            pub const NAMES: &'static [&'static str] = &[$($name),*];
+
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $(BsdfKind::$variant(_) => $name),*
+                }
+            }
+
+            /// The kind as its model, for code that is not on the per-ray hot path.
+            pub fn model(&self) -> &dyn BsdfModel {
+                match self {
+                    $(BsdfKind::$variant(b) => b),*
+                }
+            }
+
+            pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
+                match self {
+                    $(BsdfKind::$variant(b) => b.eval(wo, wi, mode)),*
+                }
+            }
+
+            pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+                match self {
+                    $(BsdfKind::$variant(b) => b.pdf(wo, wi, mode)),*
+                }
+            }
+
+            pub fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+                let s = match self {
+                    $(BsdfKind::$variant(b) => b.sample(wo, u, u2, mode)),*
+                }?;
+                (s.pdf > 0.0 && s.weight.is_finite() && s.wi.is_finite()).then_some(s)
+            }
+
+            pub fn specular_rays(&self, wo: Vec3, mode: TransportMode) -> SpecularRays {
+                let mut rays = SpecularRays::default();
+                match self {
+                    $(BsdfKind::$variant(b) => b.specular_rays(wo, mode, &mut rays)),*
+                }
+                rays
+            }
+
+            pub fn has_smooth(&self) -> bool {
+                self.model().has_smooth()
+            }
+
+            pub fn albedo(&self) -> Rgb {
+                self.model().albedo()
+            }
+
+            pub fn stochastic(&self) -> bool {
+                self.model().stochastic()
+            }
+        }
+    };
+}
+
+bsdf_kinds! { 'a;
+    Diffuse(Diffuse) = "diffuse",
+    Phong(PhongBsdf) = "phong",
+    Conductor(Conductor) = "conductor",
+    Dielectric(Dielectric) = "dielectric",
+    Plastic(Plastic<'a>) = "plastic",
+    Blend(Blend<'a>) = "blend",
+    Layered(Layered) = "layered",
 }
 
 /// A BSDF at one surface point. A one-sided BSDF reflects on the side its shading normal
@@ -213,76 +319,10 @@ impl<'a> Bsdf<'a> {
     pub fn albedo(&self) -> Rgb {
         self.kind.albedo()
     }
-}
 
-impl BsdfKind<'_> {
-    pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
-        match self {
-            BsdfKind::Diffuse(b) => b.eval(wo, wi),
-            BsdfKind::Phong(b) => b.eval(wo, wi),
-            BsdfKind::Conductor(b) => b.eval(wo, wi),
-            BsdfKind::Dielectric(b) => b.eval(wo, wi, mode),
-            BsdfKind::Plastic(b) => b.eval(wo, wi),
-            BsdfKind::Blend(b) => b.eval(wo, wi, mode),
-        }
-    }
-
-    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
-        match self {
-            BsdfKind::Diffuse(b) => b.pdf(wo, wi),
-            BsdfKind::Phong(b) => b.pdf(wo, wi, mode),
-            BsdfKind::Conductor(b) => b.pdf(wo, wi),
-            BsdfKind::Dielectric(b) => b.pdf(wo, wi),
-            BsdfKind::Plastic(b) => b.pdf(wo, wi),
-            BsdfKind::Blend(b) => b.pdf(wo, wi, mode),
-        }
-    }
-
-    pub fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
-        let s = match self {
-            BsdfKind::Diffuse(b) => b.sample(wo, u2),
-            BsdfKind::Phong(b) => b.sample(wo, u, u2, mode),
-            BsdfKind::Conductor(b) => b.sample(wo, u2),
-            BsdfKind::Dielectric(b) => b.sample(wo, u, u2, mode),
-            BsdfKind::Plastic(b) => b.sample(wo, u, u2),
-            BsdfKind::Blend(b) => b.sample(wo, u, u2, mode),
-        }?;
-        (s.pdf > 0.0 && s.weight.is_finite() && s.wi.is_finite()).then_some(s)
-    }
-
-    pub fn specular_rays(&self, wo: Vec3, mode: TransportMode) -> SpecularRays {
-        let mut rays = SpecularRays::default();
-        match self {
-            BsdfKind::Diffuse(_) => {}
-            BsdfKind::Phong(b) => b.specular_rays(wo, mode, &mut rays),
-            BsdfKind::Conductor(b) => b.specular_rays(wo, &mut rays),
-            BsdfKind::Dielectric(b) => b.specular_rays(wo, mode, &mut rays),
-            BsdfKind::Plastic(b) => b.specular_rays(wo, &mut rays),
-            BsdfKind::Blend(b) => b.specular_rays(wo, mode, &mut rays),
-        }
-        rays
-    }
-
-    pub fn has_smooth(&self) -> bool {
-        match self {
-            BsdfKind::Diffuse(b) => !b.reflectance.is_black(),
-            BsdfKind::Phong(b) => b.has_smooth(),
-            BsdfKind::Conductor(b) => b.alpha.is_some(),
-            BsdfKind::Dielectric(b) => b.rough().is_some(),
-            BsdfKind::Plastic(_) => true,
-            BsdfKind::Blend(b) => b.has_smooth(),
-        }
-    }
-
-    pub fn albedo(&self) -> Rgb {
-        match self {
-            BsdfKind::Diffuse(b) => b.reflectance,
-            BsdfKind::Phong(b) => b.diffuse,
-            BsdfKind::Conductor(b) => b.specular,
-            BsdfKind::Dielectric(b) => b.transmittance,
-            BsdfKind::Plastic(b) => b.diffuse,
-            BsdfKind::Blend(b) => b.albedo(),
-        }
+    /// Whether eval and pdf are estimates (see [`BsdfModel::stochastic`]).
+    pub fn stochastic(&self) -> bool {
+        self.kind.stochastic()
     }
 }
 

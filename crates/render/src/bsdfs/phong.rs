@@ -5,7 +5,7 @@
 //! part and the delta rays in proportion to their albedos' luminance, and within the smooth
 //! part between the cosine hemisphere and the Phong lobe likewise.
 
-use super::{reflect_z, same_hemisphere, BsdfSample, SpecularRays, TransportMode};
+use super::{reflect_z, same_hemisphere, BsdfModel, BsdfSample, SpecularRays, TransportMode};
 use crate::optics::{fresnel_dielectric, refract};
 use glam::{Vec2, Vec3};
 use penumbra_core::{warp, Frame, Rgb};
@@ -29,10 +29,6 @@ fn upper(w: Vec3, side: f32) -> Vec3 {
 }
 
 impl PhongBsdf {
-    pub fn has_smooth(&self) -> bool {
-        self.smooth_albedo() > 0.0
-    }
-
     /// Luminance of the diffuse and glossy albedos together.
     fn smooth_albedo(&self) -> f32 {
         self.diffuse.luminance().max(0.0) + self.specular.luminance().max(0.0)
@@ -51,26 +47,6 @@ impl PhongBsdf {
         }
     }
 
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
-        if !same_hemisphere(wo, wi) {
-            return Rgb::BLACK;
-        }
-        let diffuse = self.diffuse / PI;
-        let cos_alpha = reflect_z(upper(wi, wi.z)).dot(upper(wo, wo.z));
-        // Zero outside the lobe's hemisphere (also for exponent 0, where 0^0 would be 1).
-        if self.specular.is_black() || cos_alpha <= 0.0 {
-            return diffuse;
-        }
-        diffuse + self.specular * ((self.exponent + 2.0) / (2.0 * PI) * cos_alpha.powf(self.exponent))
-    }
-
-    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
-        if !same_hemisphere(wo, wi) {
-            return 0.0;
-        }
-        self.smooth_probability(wo, mode) * self.smooth_pdf(upper(wo, wo.z), upper(wi, wi.z))
-    }
-
     /// Density of the smooth part's sampling, both directions above.
     fn smooth_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         let smooth = self.smooth_albedo();
@@ -86,7 +62,37 @@ impl PhongBsdf {
         pdf
     }
 
-    pub fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+    fn relative_eta(&self, wo: Vec3) -> f32 {
+        if wo.z > 0.0 {
+            self.eta
+        } else {
+            1.0 / self.eta
+        }
+    }
+}
+
+impl BsdfModel for PhongBsdf {
+    fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Rgb {
+        if !same_hemisphere(wo, wi) {
+            return Rgb::BLACK;
+        }
+        let diffuse = self.diffuse / PI;
+        let cos_alpha = reflect_z(upper(wi, wi.z)).dot(upper(wo, wo.z));
+        // Zero outside the lobe's hemisphere (also for exponent 0, where 0^0 would be 1).
+        if self.specular.is_black() || cos_alpha <= 0.0 {
+            return diffuse;
+        }
+        diffuse + self.specular * ((self.exponent + 2.0) / (2.0 * PI) * cos_alpha.powf(self.exponent))
+    }
+
+    fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+        if !same_hemisphere(wo, wi) {
+            return 0.0;
+        }
+        self.smooth_probability(wo, mode) * self.smooth_pdf(upper(wo, wo.z), upper(wi, wi.z))
+    }
+
+    fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
         let smooth = self.smooth_albedo();
         let mut rays = SpecularRays::default();
         self.specular_rays(wo, mode, &mut rays);
@@ -113,7 +119,7 @@ impl PhongBsdf {
             let pdf = smooth / total * self.smooth_pdf(up, upper(wi, wi.z));
             return (pdf > 0.0).then(|| BsdfSample {
                 wi,
-                weight: self.eval(wo, wi) * (wi.z.abs() / pdf),
+                weight: self.eval(wo, wi, mode) * (wi.z.abs() / pdf),
                 pdf,
                 delta: false,
                 eta: 1.0,
@@ -140,17 +146,9 @@ impl PhongBsdf {
         })
     }
 
-    fn relative_eta(&self, wo: Vec3) -> f32 {
-        if wo.z > 0.0 {
-            self.eta
-        } else {
-            1.0 / self.eta
-        }
-    }
-
     /// Mirror reflection, and for a transmissive material the Fresnel-weighted reflection
     /// and refraction, radiance crossing into a denser medium scaled by 1/η².
-    pub fn specular_rays(&self, wo: Vec3, mode: TransportMode, rays: &mut SpecularRays) {
+    fn specular_rays(&self, wo: Vec3, mode: TransportMode, rays: &mut SpecularRays) {
         if wo.z == 0.0 {
             return;
         }
@@ -170,5 +168,13 @@ impl PhongBsdf {
                 rays.push(wi, self.transmission * ((1.0 - f) * scale));
             }
         }
+    }
+
+    fn has_smooth(&self) -> bool {
+        self.smooth_albedo() > 0.0
+    }
+
+    fn albedo(&self) -> Rgb {
+        self.diffuse
     }
 }

@@ -13,7 +13,7 @@
 //! env-materials sphere 15% brighter than Mitsuba's.
 
 use super::microfacet::Ggx;
-use super::{reflect_z, BsdfSample, SpecularRays};
+use super::{reflect_z, BsdfModel, BsdfSample, SpecularRays, TransportMode};
 use crate::optics::fresnel_dielectric;
 use glam::{Vec2, Vec3};
 use penumbra_core::{warp, Rgb};
@@ -145,8 +145,10 @@ impl Plastic<'_> {
         let t = c.transmittance(cos_i, self.eta) * c.transmittance(cos_o, self.eta);
         self.diffuse * (t * FRAC_1_PI / (self.eta * self.eta * (1.0 - c.internal_reflectance)))
     }
+}
 
-    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Rgb {
+impl BsdfModel for Plastic<'_> {
+    fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Rgb {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return Rgb::BLACK;
         }
@@ -157,7 +159,7 @@ impl Plastic<'_> {
         f
     }
 
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }
@@ -169,7 +171,7 @@ impl Plastic<'_> {
         pdf
     }
 
-    pub fn sample(&self, wo: Vec3, u: f32, u2: Vec2) -> Option<BsdfSample> {
+    fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
@@ -190,20 +192,28 @@ impl Plastic<'_> {
         if wi.z <= 0.0 {
             return None;
         }
-        let pdf = self.pdf(wo, wi);
+        let pdf = self.pdf(wo, wi, mode);
         (pdf > 0.0).then(|| BsdfSample {
             wi,
-            weight: self.eval(wo, wi) * (wi.z / pdf),
+            weight: self.eval(wo, wi, mode) * (wi.z / pdf),
             pdf,
             delta: false,
             eta: 1.0,
         })
     }
 
-    pub fn specular_rays(&self, wo: Vec3, rays: &mut SpecularRays) {
+    fn specular_rays(&self, wo: Vec3, _mode: TransportMode, rays: &mut SpecularRays) {
         if self.alpha.is_none() && wo.z > 0.0 {
             rays.push(reflect_z(wo), self.specular * fresnel_dielectric(wo.z, self.eta));
         }
+    }
+
+    fn has_smooth(&self) -> bool {
+        true
+    }
+
+    fn albedo(&self) -> Rgb {
+        self.diffuse
     }
 }
 

@@ -4,9 +4,11 @@
 //! Adding a material: a variant here and its arm in [`Material::bsdf`], with the BSDF in
 //! its own file under `bsdfs/`.
 
+mod coated;
 mod metals;
 mod phong;
 
+pub use coated::{Coated, CoatedBase};
 pub use metals::{metal_ior, METALS};
 pub use phong::Phong;
 
@@ -70,6 +72,8 @@ pub enum Material {
         coating: Coating,
         roughness: Option<Roughness>,
     },
+    /// A dielectric coating over a diffuse or metal base (pbrt-v4's coated materials).
+    Coated(Coated),
     /// (1 - weight) a + weight b.
     Blend {
         a: Box<Material>,
@@ -192,6 +196,7 @@ impl Material {
                 weight: weight.eval(uv).r.clamp(0.0, 1.0),
                 uv,
             }),
+            Material::Coated(m) => return m.bsdf(uv),
             Material::NormalMapped { inner, .. } => return inner.bsdf(uv),
             Material::TwoSided(inner) => {
                 return Bsdf {

@@ -10,6 +10,11 @@
 //! - `plastic`: `diffuse` (default 0.5), `specular` (default 1), `ior` (1.5),
 //!   `ior_outside` (1), `roughness` (isotropic).
 //! - `blend`: `a` and `b`, names of materials defined above, and `weight` of `b` (0.5).
+//! - `coated` (pbrt-v4's coated materials, the layered BSDF): a diffuse base of
+//!   `reflectance` (0.5), or a metal base when `metal` or `eta` and `k` are given, with
+//!   `metal_roughness` (α; smooth without); the coating's `ior` (1.5) and `roughness`
+//!   (isotropic α); the layer's `thickness` (0.01), medium `albedo` (0) and `g` (0),
+//!   `max_depth` (10) and `samples` (1). Always two-sided.
 //!
 //! `diffuse`, `conductor` and `plastic` take `two_sided` (default true): false makes the
 //! back of the surface black, as Mitsuba's BSDFs without `twosided`; a blend's parts keep
@@ -21,10 +26,18 @@ use crate::desc::MaterialDesc;
 use crate::params::{Result, Table, Value};
 use penumbra_core::Rgb;
 use penumbra_render::bsdfs::MetalFresnel;
-use penumbra_render::materials::{metal_ior, Phong, Roughness, METALS};
+use penumbra_render::materials::{metal_ior, Coated, CoatedBase, Phong, Roughness, METALS};
 use penumbra_render::{Material, Texture};
 
-const TYPES: [&str; 6] = ["phong", "diffuse", "conductor", "dielectric", "plastic", "blend"];
+const TYPES: [&str; 7] = [
+    "phong",
+    "diffuse",
+    "conductor",
+    "dielectric",
+    "plastic",
+    "blend",
+    "coated",
+];
 
 pub fn read_all(tables: &[Table]) -> Result<Vec<MaterialDesc>> {
     let mut out: Vec<MaterialDesc> = Vec::new();
@@ -45,6 +58,7 @@ pub fn read_all(tables: &[Table]) -> Result<Vec<MaterialDesc>> {
         let material = match kind.as_str() {
             "phong" => Material::Phong(read_phong(t)?),
             "dielectric" => read_dielectric(t)?,
+            "coated" => read_coated(t)?,
             other => {
                 let m = match other {
                     "diffuse" => Material::Diffuse {
@@ -108,7 +122,55 @@ fn read_phong(t: &Table) -> Result<Phong> {
 }
 
 fn read_conductor(t: &Table) -> Result<Material> {
-    let (eta, k) = match (t.get("eta"), t.get("k")) {
+    let (eta, k) = metal_index(t)?;
+    Ok(Material::Conductor {
+        fresnel: MetalFresnel::Complex { eta, k },
+        specular: texture_or(t, "specular", 1.0)?,
+        roughness: roughness(t, true)?,
+    })
+}
+
+fn read_coated(t: &Table) -> Result<Material> {
+    let d = Coated::default();
+    let base = if ["metal", "eta", "k"].iter().any(|k| t.get(k).is_some()) {
+        let (eta, k) = metal_index(t)?;
+        let alpha = t.f32_or("metal_roughness", 0.0)?;
+        if !(0.0..=1.0).contains(&alpha) {
+            let v = t.require("metal_roughness")?;
+            return Err(v.error(format!("`metal_roughness` must lie in [0, 1], found {alpha}")));
+        }
+        CoatedBase::Conductor {
+            fresnel: MetalFresnel::Complex { eta, k },
+            specular: Texture::Constant(Rgb::WHITE),
+            roughness: (alpha > 0.0).then(|| Roughness::isotropic(alpha)),
+        }
+    } else {
+        CoatedBase::Diffuse {
+            reflectance: texture_or(t, "reflectance", 0.5)?,
+        }
+    };
+    let count = |key: &str, default: u32| -> Result<u32> {
+        t.get(key).map_or(Ok(default), |v| Ok(v.integer(0..=10_000)? as u32))
+    };
+    let g = t.f32_or("g", d.g)?;
+    if g.abs() >= 1.0 {
+        return Err(t.require("g")?.error(format!("`g` must lie in (-1, 1), found {g}")));
+    }
+    Ok(Material::Coated(Coated {
+        base,
+        eta: t.positive_or("ior", d.eta)?,
+        roughness: roughness(t, false)?,
+        thickness: t.positive_or("thickness", d.thickness)?,
+        albedo: texture_or(t, "albedo", 0.0)?,
+        g,
+        max_depth: count("max_depth", d.max_depth)?,
+        samples: count("samples", d.samples)?.max(1),
+    }))
+}
+
+/// A metal's complex index: `metal` (a name) or `eta` and `k` (gold by default).
+fn metal_index(t: &Table) -> Result<(Rgb, Rgb)> {
+    Ok(match (t.get("eta"), t.get("k")) {
         (Some(eta), Some(k)) => {
             if let Some(metal) = t.get("metal") {
                 return Err(metal.error("give either `metal` or `eta` and `k`, not both"));
@@ -123,11 +185,6 @@ fn read_conductor(t: &Table) -> Result<Material> {
                 None => metal_ior("Au").expect("gold is a named metal"),
             }
         }
-    };
-    Ok(Material::Conductor {
-        fresnel: MetalFresnel::Complex { eta, k },
-        specular: texture_or(t, "specular", 1.0)?,
-        roughness: roughness(t, true)?,
     })
 }
 

@@ -337,6 +337,13 @@ fn bad_materials_are_errors_naming_the_line() {
         ),
         (format!("{m}type = \"blend\"\nweight = 1.2\n"), "must lie in [0, 1]", 4),
         (format!("{m}type = \"velvet\"\n"), "unknown material type `velvet`", 3),
+        (format!("{m}type = \"coated\"\ng = 1.5\n"), "must lie in (-1, 1)", 4),
+        (format!("{m}type = \"coated\"\nmax_depth = -1\n"), "", 4),
+        (
+            format!("{m}type = \"coated\"\nmetal = \"Cu\"\nmetal_roughness = 2\n"),
+            "must lie in [0, 1]",
+            5,
+        ),
         (
             format!("{m}type = \"diffuse\"\nroughness = 0.2\n"),
             "unknown key `roughness`",
@@ -357,7 +364,9 @@ fn every_material_type_reads() {
          [[material]]\nname = \"c\"\ntype = \"conductor\"\nmetal = \"Cu\"\nalpha_u = 0.1\nalpha_v = 0.3\n\n\
          [[material]]\nname = \"g\"\ntype = \"dielectric\"\nior = 1.33\nroughness = 0.2\n\n\
          [[material]]\nname = \"p\"\ntype = \"plastic\"\ndiffuse = [0.1, 0.2, 0.3]\n\n\
-         [[material]]\nname = \"b\"\ntype = \"blend\"\na = \"d\"\nb = \"c\"\nweight = 0.25\n",
+         [[material]]\nname = \"b\"\ntype = \"blend\"\na = \"d\"\nb = \"c\"\nweight = 0.25\n\n\
+         [[material]]\nname = \"w\"\ntype = \"coated\"\nreflectance = 0.4\nroughness = 0.1\nthickness = 0.1\n\n\
+         [[material]]\nname = \"au\"\ntype = \"coated\"\nmetal = \"Au\"\nmetal_roughness = 0.2\nsamples = 2\n",
     );
     let kinds: Vec<&str> = d
         .materials
@@ -371,6 +380,13 @@ fn every_material_type_reads() {
                 _ => "two-sided other",
             },
             Material::Blend { .. } => "blend",
+            Material::Coated(c) => match &c.base {
+                penumbra_render::materials::CoatedBase::Diffuse { .. } => "coated diffuse",
+                penumbra_render::materials::CoatedBase::Conductor { roughness, .. } => {
+                    assert!(roughness.is_some() && c.samples == 2 && c.roughness.is_none());
+                    "coated metal"
+                }
+            },
             Material::Dielectric { eta, .. } => {
                 assert!((eta - 1.33).abs() < 1e-6);
                 "dielectric"
@@ -385,7 +401,9 @@ fn every_material_type_reads() {
             "two-sided conductor",
             "dielectric",
             "two-sided plastic",
-            "blend"
+            "blend",
+            "coated diffuse",
+            "coated metal"
         ]
     );
 }

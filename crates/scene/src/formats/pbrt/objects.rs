@@ -10,7 +10,7 @@ use penumbra_core::{Rgb, SamplerKind, Transform};
 use penumbra_render::bsdfs::MetalFresnel;
 use penumbra_render::cameras::FovAxis;
 use penumbra_render::integrators::MAX_DEPTH_LIMIT;
-use penumbra_render::materials::{metal_ior, Roughness};
+use penumbra_render::materials::{metal_ior, Coated, CoatedBase, Roughness};
 use penumbra_render::texture::Wrap;
 use penumbra_render::{Filter, Material, Texture};
 
@@ -240,11 +240,13 @@ pub fn setting(r: &mut Reader, directive: &str, kind: &str, p: &Params, here: Lo
     Ok(())
 }
 
-/// pbrt-v4's roughness: `roughness` or `uroughness`/`vroughness`, remapped to GGX alpha by
-/// sqrt when `remaproughness` (the default); `None` when smooth.
-fn roughness(p: &Params) -> Result<Option<Roughness>> {
-    let iso = p.float("roughness", 0.0)?;
-    let (u, v) = (p.float("uroughness", iso)?, p.float("vroughness", iso)?);
+/// pbrt-v4's roughness: `roughness` or `uroughness`/`vroughness` (after `prefix`, e.g.
+/// `interface.`), remapped to GGX alpha by sqrt when `remaproughness` (the default); `None`
+/// when smooth.
+fn roughness(p: &Params, prefix: &str) -> Result<Option<Roughness>> {
+    let iso = p.float(&format!("{prefix}roughness"), 0.0)?;
+    let u = p.float(&format!("{prefix}uroughness"), iso)?;
+    let v = p.float(&format!("{prefix}vroughness"), iso)?;
     let remap = p.bool("remaproughness", true)?;
     let alpha = |x: f32| if remap { x.max(0.0).sqrt() } else { x.max(0.0) };
     let (au, av) = (alpha(u), alpha(v));
@@ -254,10 +256,43 @@ fn roughness(p: &Params) -> Result<Option<Roughness>> {
     }))
 }
 
-fn eta(p: &Params, default: f32) -> Result<f32> {
-    Ok(match color(p, "eta", ColorKind::Albedo)? {
+fn eta(p: &Params, name: &str, default: f32) -> Result<f32> {
+    Ok(match color(p, name, ColorKind::Albedo)? {
         Some(c) => c.g,
         None => default,
+    })
+}
+
+/// A metal's Fresnel term from `{prefix}eta` and `{prefix}k` (copper by default), or from
+/// a reflectance `colour` (pbrt-v4 derives an index from it; we take it as the reflectance
+/// at normal incidence of Schlick's Fresnel term).
+fn metal(p: &Params, prefix: &str, colour: &str) -> Result<(MetalFresnel, Rgb)> {
+    let copper = metal_ior("Cu").expect("copper is in the table");
+    let eta = color(p, &format!("{prefix}eta"), ColorKind::Albedo)?.unwrap_or(copper.0);
+    let k = color(p, &format!("{prefix}k"), ColorKind::Albedo)?.unwrap_or(copper.1);
+    Ok(match color(p, colour, ColorKind::Albedo)? {
+        Some(f0) => (MetalFresnel::Schlick, f0),
+        None => (MetalFresnel::Complex { eta, k }, Rgb::WHITE),
+    })
+}
+
+/// The coated materials' layer parameters with pbrt-v4's defaults: `thickness` (0.01),
+/// the medium's `albedo` (0) and `g` (0), `maxdepth` (10) and `nsamples` (1).
+fn layer(r: &Reader, p: &Params) -> Result<Coated> {
+    let count = |name: &str, default: i64| -> Result<u32> {
+        let v = p.int(name, default)?;
+        u32::try_from(v).ok().filter(|&v| v <= 10_000).ok_or_else(|| {
+            let param = p.list.iter().rev().find(|x| x.name == name).expect("a set value");
+            p.error(param, format!("`{name}` must be between 0 and 10000, not {v}"))
+        })
+    };
+    Ok(Coated {
+        thickness: p.float("thickness", 0.01)?.max(0.0),
+        albedo: texture_param(r, p, "albedo", 0.0)?,
+        g: p.float("g", 0.0)?.clamp(-0.99, 0.99),
+        max_depth: count("maxdepth", 10)?,
+        samples: count("nsamples", 1)?.max(1),
+        ..Coated::default()
     })
 }
 
@@ -267,34 +302,33 @@ pub fn material(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Resul
         "diffuse" => Material::Diffuse {
             reflectance: texture_param(r, p, "reflectance", 0.5)?,
         },
-        "conductor" | "coatedconductor" => {
-            if kind == "coatedconductor" {
-                r.warn(
-                    "coatedconductor",
-                    format!("{here}: `coatedconductor` is rendered as its conductor, without the coating"),
-                );
-            }
-            let prefix = if kind == "coatedconductor" { "conductor." } else { "" };
-            let copper = metal_ior("Cu").expect("copper is in the table");
-            let eta = color(p, &format!("{prefix}eta"), ColorKind::Albedo)?.unwrap_or(copper.0);
-            let k = color(p, &format!("{prefix}k"), ColorKind::Albedo)?.unwrap_or(copper.1);
-            // A `reflectance` instead of eta and k: pbrt-v4 derives an index from it; we
-            // take it as the reflectance at normal incidence of Schlick's Fresnel term.
-            let (fresnel, specular) = match color(p, &format!("{prefix}reflectance"), ColorKind::Albedo)? {
-                Some(f0) => (MetalFresnel::Schlick, f0),
-                None => (MetalFresnel::Complex { eta, k }, Rgb::WHITE),
-            };
-            let roughness = if kind == "coatedconductor" {
-                let au = p.float("conductor.roughness", 0.0)?;
-                (au > 0.0).then(|| Roughness::isotropic(au.sqrt()))
-            } else {
-                roughness(p)?
-            };
+        "conductor" => {
+            let (fresnel, specular) = metal(p, "", "reflectance")?;
             Material::Conductor {
                 fresnel,
                 specular: Texture::Constant(specular),
-                roughness,
+                roughness: roughness(p, "")?,
             }
+        }
+        "coatedconductor" => {
+            // pbrt-v4 names the metal's colour `reflectance`; some exporters write
+            // `conductor.reflectance`.
+            let colour = if p.list.iter().any(|x| x.name == "reflectance") {
+                "reflectance"
+            } else {
+                "conductor.reflectance"
+            };
+            let (fresnel, specular) = metal(p, "conductor.", colour)?;
+            Material::Coated(Coated {
+                base: CoatedBase::Conductor {
+                    fresnel,
+                    specular: Texture::Constant(specular),
+                    roughness: roughness(p, "conductor.")?,
+                },
+                eta: eta(p, "interface.eta", 1.5)?,
+                roughness: roughness(p, "interface.")?,
+                ..layer(r, p)?
+            })
         }
         "dielectric" | "thindielectric" => {
             if kind == "thindielectric" {
@@ -304,21 +338,20 @@ pub fn material(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Resul
                 );
             }
             Material::Dielectric {
-                eta: eta(p, 1.5)?,
+                eta: eta(p, "eta", 1.5)?,
                 reflectance: Texture::Constant(Rgb::WHITE),
                 transmittance: Texture::Constant(Rgb::WHITE),
-                roughness: roughness(p)?,
+                roughness: roughness(p, "")?,
             }
         }
-        "coateddiffuse" => {
-            p.float("thickness", 0.01)?;
-            Material::plastic(
-                texture_param(r, p, "reflectance", 0.5)?,
-                Texture::Constant(Rgb::WHITE),
-                eta(p, 1.5)?,
-                roughness(p)?,
-            )
-        }
+        "coateddiffuse" => Material::Coated(Coated {
+            base: CoatedBase::Diffuse {
+                reflectance: texture_param(r, p, "reflectance", 0.5)?,
+            },
+            eta: eta(p, "eta", 1.5)?,
+            roughness: roughness(p, "")?,
+            ..layer(r, p)?
+        }),
         "mix" => {
             let names = p.strings("materials")?.unwrap_or_default();
             if names.len() != 2 {
@@ -352,7 +385,7 @@ pub fn material(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Resul
     };
     // pbrt's BSDFs reflect on both sides of a surface (Mitsuba's and ours on the front).
     let m = match m {
-        Material::Dielectric { .. } | Material::Blend { .. } => m,
+        Material::Dielectric { .. } | Material::Blend { .. } | Material::Coated(_) => m,
         m => Material::TwoSided(Box::new(m)),
     };
     p.string("type")?;

@@ -291,3 +291,49 @@ fn iso_and_shutter_scale_the_light() {
     let e = read(&dir.path().join("a.pbrt")).unwrap_err().to_string();
     assert!(e.contains("a.pbrt:1") && e.contains("shutterclose"), "{e}");
 }
+
+/// pbrt-v4's coated materials are the layered BSDF with their own parameters: the
+/// interface's roughness remapped (sqrt) and index, the metal's index, the layer's
+/// thickness, medium, depth and sample count; unset ones take pbrt-v4's defaults.
+#[test]
+fn coated_materials_keep_their_layers() {
+    use penumbra_render::materials::{Coated, CoatedBase};
+    let scene = r#"WorldBegin
+MakeNamedMaterial "wood" "string type" "coateddiffuse" "rgb reflectance" [ 0.5 0.2 0.1 ] "float roughness" 0.04 "float thickness" 0.2 "rgb albedo" [ 0.3 0.3 0.3 ] "float g" 0.5 "integer maxdepth" 20 "integer nsamples" 4
+MakeNamedMaterial "gold" "string type" "coatedconductor" "float interface.roughness" 0.01 "float interface.eta" 1.6 "rgb conductor.eta" [ 0.2 0.4 1.4 ] "rgb conductor.k" [ 3.9 2.4 1.8 ] "float conductor.roughness" 0.09
+MakeNamedMaterial "bad" "string type" "coateddiffuse" "integer maxdepth" -3
+NamedMaterial "wood"
+Shape "sphere"
+NamedMaterial "gold"
+Shape "sphere"
+"#;
+    let dir = folder(&[("a.pbrt", scene)]);
+    let err = read(&dir.path().join("a.pbrt")).unwrap_err().to_string();
+    assert!(err.contains("a.pbrt:4") && err.contains("maxdepth"), "{err}");
+    let scene = scene.replace("\"integer maxdepth\" -3", "");
+    let dir = folder(&[("a.pbrt", &scene)]);
+    let desc = read(&dir.path().join("a.pbrt")).unwrap_or_else(|e| panic!("{e}"));
+    let Material::Coated(wood) = &desc.materials[0].material else {
+        panic!("{:?}", desc.materials[0].material)
+    };
+    assert!(matches!(&wood.base, CoatedBase::Diffuse { .. }));
+    assert_eq!(
+        (wood.eta, wood.thickness, wood.g, wood.max_depth, wood.samples),
+        (1.5, 0.2, 0.5, 20, 4)
+    );
+    let alpha = wood.roughness.as_ref().map(|r| r.alpha_u.eval(glam::Vec2::ZERO).r);
+    assert!((alpha.unwrap() - 0.2).abs() < 1e-6, "{alpha:?}");
+    let Material::Coated(gold) = &desc.materials[1].material else {
+        panic!("{:?}", desc.materials[1].material)
+    };
+    let CoatedBase::Conductor { fresnel, roughness, .. } = &gold.base else {
+        panic!("{:?}", gold.base)
+    };
+    assert!(matches!(fresnel, penumbra_render::bsdfs::MetalFresnel::Complex { eta, .. } if eta.b == 1.4));
+    assert!(roughness.is_some() && gold.roughness.is_some() && gold.eta == 1.6);
+    let d = Coated::default();
+    assert_eq!(
+        (gold.thickness, gold.max_depth, gold.samples),
+        (d.thickness, d.max_depth, d.samples)
+    );
+}
