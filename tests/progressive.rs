@@ -247,6 +247,63 @@ fn time_budget_resume_and_aovs_on_the_command_line() {
     assert!(text(&png.stderr).contains("OpenEXR"), "{}", text(&png.stderr));
 }
 
+/// Integrators that keep state of their own (mlt's chains, sppm's pixel statistics, env
+/// smc's particles) declare it: a render of theirs stopped by `--time` or checkpointed
+/// leaves no state file that could not continue it, `--resume` is refused naming what is
+/// not kept, and `--aovs` is refused; a pixel-sampling integrator keeps its state.
+#[test]
+fn integrators_with_state_of_their_own_leave_no_state_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let env = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glossy-env.toml");
+    let env = env.to_str().unwrap();
+    std::fs::write(d.join("box.toml"), SCENE).unwrap();
+    let cases: [(&[&str], &str); 4] = [
+        (&["box.toml", "--integrator", "mlt"], "Markov chains"),
+        (&["box.toml", "--integrator", "sppm"], "pixel statistics"),
+        (
+            &[env, "--integrator", "env", "--env-sampling", "smc", "--res", "32x24"],
+            "particles",
+        ),
+        (&["box.toml", "--integrator", "path"], ""),
+    ];
+    for (k, (scene, kept)) in cases.iter().enumerate() {
+        let out = format!("o{k}.pfm");
+        let mut args = vec!["render"];
+        args.extend_from_slice(scene);
+        args.extend_from_slice(&[
+            "--spp",
+            "100000",
+            "--time",
+            "0.3",
+            "--checkpoint",
+            "0.01",
+            "-q",
+            "-o",
+            &out,
+        ]);
+        let r = penumbra(d, &args);
+        assert!(r.status.success(), "{scene:?}: {}", text(&r.stderr));
+        assert_eq!(d.join(format!("{out}.state")).exists(), kept.is_empty(), "{scene:?}");
+        let mut resume = vec!["render"];
+        resume.extend_from_slice(scene);
+        resume.extend_from_slice(&["--resume", "--time", "0.3", "-q", "-o", &out]);
+        let r = penumbra(d, &resume);
+        if kept.is_empty() {
+            assert!(r.status.success(), "{scene:?}: {}", text(&r.stderr));
+            continue;
+        }
+        assert_eq!(r.status.code(), Some(2), "{scene:?}");
+        assert!(text(&r.stderr).contains(kept), "{scene:?}: {}", text(&r.stderr));
+        let mut aovs = vec!["render"];
+        aovs.extend_from_slice(scene);
+        aovs.extend_from_slice(&["--aovs", "-o", "a.exr"]);
+        let r = penumbra(d, &aovs);
+        assert_eq!(r.status.code(), Some(2), "{scene:?}");
+        assert!(text(&r.stderr).contains("--aovs"), "{scene:?}: {}", text(&r.stderr));
+    }
+}
+
 /// Ctrl-C: the render finishes its pass, writes the image and the state, says how far it
 /// got and exits 0; checkpoints have rewritten the image meanwhile.
 #[cfg(unix)]

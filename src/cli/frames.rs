@@ -7,7 +7,6 @@
 use super::progress::Reporter;
 use super::Failure;
 use penumbra::renderer::driver::Stop;
-use penumbra::renderer::integrators::{EnvSampling, IntegratorKind};
 use penumbra::scene::image_io::{write_image, Image};
 use penumbra::scene::SceneDesc;
 use penumbra::RenderControl;
@@ -66,10 +65,11 @@ pub fn run(
     pool: &rayon::ThreadPool,
     cancel: &AtomicBool,
 ) -> Result<(), Failure> {
-    // Only `env` with `smc` carries anything from frame to frame; every other integrator
-    // starts each frame afresh (mlt's chains and normalisation belong to one frame).
-    let carries = desc.render.integrator == IntegratorKind::Env && desc.render.env.sampling == EnvSampling::Smc;
+    // An integrator that carries what it learnt from frame to frame (`env` with `smc`)
+    // renders every frame; any other starts each frame afresh (mlt's chains and
+    // normalisation belong to one frame).
     let mut integrator = penumbra::integrator(desc, false);
+    let carries = integrator.capabilities().carries_frames;
     let pixels = desc.render.width as u64 * desc.render.height as u64;
     for frame in first..end {
         if cancel.load(Ordering::Relaxed) {

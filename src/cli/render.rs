@@ -292,29 +292,27 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
             }
         }
     }
-    let what = match desc.render.integrator {
-        IntegratorKind::Mlt => Some(("mlt", "Markov chains")),
-        IntegratorKind::Sppm => Some(("sppm", "pixel statistics (radii, photon counts)")),
-        IntegratorKind::Env if desc.render.env.sampling == EnvSampling::Smc => Some(("env with smc", "particles")),
-        _ => None,
-    };
-    if let Some((name, kept)) = what {
+    // What the integrator supports, as it declares it.
+    let integrator = penumbra::integrator(&desc, args.debug_strategies);
+    let caps = integrator.capabilities();
+    let name = IntegratorKind::NAMES[desc.render.integrator as usize];
+    if let Some(kept) = caps.state {
         if args.resume {
             return Err(bad(format!(
                 "--resume: {name}'s {kept} are not kept in the state; render afresh (--time still stops a render when asked)",
             )));
         }
-        if args.aovs {
-            return Err(bad(format!(
-                "--aovs: {name} does not estimate pixels by samples of their own; use another integrator for the AOVs",
-            )));
-        }
+    }
+    if args.aovs && !caps.pixel_samples {
+        return Err(bad(format!(
+            "--aovs: {name} does not estimate pixels by samples of their own; use another integrator for the AOVs",
+        )));
     }
     if args.debug_strategies {
-        if desc.render.integrator != IntegratorKind::Bdpt {
-            return Err(bad(
-                "--debug-strategies shows the strategies of `bdpt`: add --integrator bdpt",
-            ));
+        if !caps.strategy_images {
+            return Err(bad(format!(
+                "--debug-strategies shows the strategies of `bdpt`, and {name} keeps none: add --integrator bdpt"
+            )));
         }
         if args.resume {
             return Err(bad(
@@ -336,16 +334,7 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
             IntegratorKind::NAMES[desc.render.integrator as usize]
         );
     }
-    // The integrators that trace passes of their own draw their numbers themselves.
-    let own_numbers = match desc.render.integrator {
-        IntegratorKind::Mlt => Some("mlt mutates primary samples of its own"),
-        IntegratorKind::Sppm => Some("sppm draws each pass's camera paths from a Sobol sequence"),
-        IntegratorKind::Env if desc.render.env.sampling == EnvSampling::Smc => {
-            Some("env with smc draws each pass's camera samples from a Sobol sequence")
-        }
-        _ => None,
-    };
-    if let (Some(why), Some(_)) = (own_numbers, &args.sampler) {
+    if let (Some(why), Some(_)) = (caps.own_numbers, &args.sampler) {
         eprintln!("warning: --sampler does not apply: {why}");
     }
     if desc.render.integrator == IntegratorKind::Env && desc.environment.is_none() {
@@ -431,8 +420,9 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
         .build()
         .map_err(|e| Failure::Internal(format!("cannot start worker threads: {e}")))?;
     let planned = r.spp;
-    // (mlt's chains and sppm's pixel statistics cannot be resumed: no state for them.)
-    let resumable = !matches!(desc.render.integrator, IntegratorKind::Mlt | IntegratorKind::Sppm);
+    // An integrator with state of its own (chains, photon statistics, particles) leaves
+    // none: its film alone cannot continue the render.
+    let resumable = caps.state.is_none();
     let keep_state = resumable && (args.checkpoint.is_some() || args.resume);
     // Checkpoints: the image and the state, every `--checkpoint` seconds.
     let last_checkpoint = Mutex::new(Instant::now());
@@ -457,7 +447,7 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
         debug_strategies: args.debug_strategies,
     };
     let result = pool
-        .install(|| penumbra::render(&desc, control))
+        .install(|| penumbra::render_with(&desc, integrator.as_ref(), control))
         .map_err(|e| Failure::BadInput(e.into()))?;
     reporter.finish();
 

@@ -43,8 +43,50 @@ impl RayCounts {
     }
 }
 
+/// What an integrator supports beyond estimating pixels, declared by the integrator
+/// itself: the command line asks for these instead of matching on integrator names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Capabilities {
+    /// What the integrator keeps outside the film that a resumed render would need
+    /// (Markov chains, photon statistics, particles); `None`: the film's state alone
+    /// continues the render (`--resume`, `--checkpoint` states).
+    pub state: Option<&'static str>,
+    /// Why it draws random numbers of its own instead of the pixel sampler's (`--sampler`
+    /// does not apply); `None` when it uses the sampler.
+    pub own_numbers: Option<&'static str>,
+    /// Estimates each pixel by camera samples of its own, so that the first hit's albedo,
+    /// normal and depth (`--aovs`) describe the samples the image averages.
+    pub pixel_samples: bool,
+    /// Adds what light paths bring to other pixels (splats) besides its own.
+    pub splats: bool,
+    /// Carries what it learnt from one frame of an animation to the next (`--frames`
+    /// then keeps the one integrator for every frame).
+    pub carries_frames: bool,
+    /// Can keep an image per sampling strategy (`--debug-strategies`).
+    pub strategy_images: bool,
+}
+
+impl Default for Capabilities {
+    /// A pixel-sampling integrator without splats or state of its own.
+    fn default() -> Self {
+        Capabilities {
+            state: None,
+            own_numbers: None,
+            pixel_samples: true,
+            splats: false,
+            carries_frames: false,
+            strategy_images: false,
+        }
+    }
+}
+
 /// A radiance estimator for camera rays.
 pub trait Integrator: Send + Sync {
+    /// What it supports (see [`Capabilities`]).
+    fn capabilities(&self) -> Capabilities {
+        Capabilities::default()
+    }
+
     /// Radiance arriving at the camera along `ray`, counting the rays traced in `counts`;
     /// what the sample adds to other pixels (light paths that reach the camera) goes to
     /// `splats` (see [`crate::film`]).

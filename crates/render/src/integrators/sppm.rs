@@ -19,7 +19,7 @@
 use super::photons::{trace_photons, walk, Photon, PhotonMap};
 use super::{Integrator, IntegratorOptions, PassIntegrator, RayCounts, Splat};
 use crate::filter::Filters;
-use crate::interface::Progress;
+use crate::interface::{Capabilities, Progress};
 use crate::{Film, Scene};
 use glam::{UVec2, Vec2};
 use penumbra_core::{PixelSampler, Ray, Rgb, SamplerKind};
@@ -130,6 +130,15 @@ fn footprint(a: &Ray, b: &Ray, t: f32) -> f32 {
 }
 
 impl Integrator for Sppm {
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            state: Some("pixel statistics (radii, photon counts)"),
+            own_numbers: Some("sppm draws each pass's camera paths from a Sobol sequence"),
+            pixel_samples: false,
+            ..Capabilities::default()
+        }
+    }
+
     /// One camera path with its direct lighting only: renders go through the passes.
     fn li(
         &self,

@@ -16,6 +16,7 @@ mod vertex;
 
 use super::{Integrator, IntegratorOptions, RayCounts, Splat};
 use crate::bsdfs::TransportMode;
+use crate::interface::Capabilities;
 use crate::lights::{AreaSampling, LightSelection};
 use crate::Scene;
 use glam::Vec3;
@@ -34,6 +35,14 @@ struct Walk {
 }
 
 impl Integrator for Bdpt {
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            splats: true,
+            strategy_images: true,
+            ..Capabilities::default()
+        }
+    }
+
     fn li(
         &self,
         scene: &Scene,

@@ -26,7 +26,7 @@ mod smc;
 use super::nee::Shading;
 use super::{Integrator, MisHeuristic, PassIntegrator, RayCounts, Splat};
 use crate::bsdfs::TransportMode;
-use crate::interface::Progress;
+use crate::interface::{Capabilities, Progress};
 use crate::lights::Environment;
 use crate::Scene;
 use glam::{Vec2, Vec3};
@@ -271,6 +271,19 @@ impl EnvDirect {
 pub(super) type Reflected<'a> = dyn FnMut(&Target, &mut PixelSampler, &mut RayCounts) -> Rgb + 'a;
 
 impl Integrator for EnvDirect {
+    fn capabilities(&self) -> Capabilities {
+        if self.options.sampling != EnvSampling::Smc {
+            return Capabilities::default();
+        }
+        Capabilities {
+            state: Some("particles (smc)"),
+            own_numbers: Some("env with smc draws each pass's camera samples from a Sobol sequence"),
+            pixel_samples: false,
+            carries_frames: true,
+            ..Capabilities::default()
+        }
+    }
+
     fn li(
         &self,
         scene: &Scene,

@@ -31,7 +31,7 @@ pub use sampler::PrimarySamples;
 use super::bdpt::{Bdpt, PerLength};
 use super::{Integrator, IntegratorOptions, PassIntegrator, RayCounts, Splat};
 use crate::filter::Filters;
-use crate::interface::Progress;
+use crate::interface::{Capabilities, Progress};
 use crate::{Film, Scene};
 use glam::Vec2;
 use penumbra_core::{Distribution1D, Draws, PixelSampler, Ray, Rgb};
@@ -409,6 +409,16 @@ impl Chain {
 }
 
 impl Integrator for Mlt {
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            state: Some("Markov chains"),
+            own_numbers: Some("mlt mutates primary samples of its own"),
+            pixel_samples: false,
+            splats: true,
+            ..Capabilities::default()
+        }
+    }
+
     /// A plain bidirectional sample (what a large step draws): for callers that ask one
     /// camera ray at a time; renders go through the passes.
     fn li(
