@@ -460,6 +460,7 @@ fn diffuse_lanes_equal_the_scalar_bounce() {
                 ..IntegratorOptions::default()
             },
             eight_wide,
+            lanes: Default::default(),
         };
         let film = |eight_wide: bool| {
             let cancel = std::sync::atomic::AtomicBool::new(false);
@@ -476,7 +477,9 @@ fn diffuse_lanes_equal_the_scalar_bounce() {
             let next = |eight_wide: bool| {
                 let mut s = PixelSampler::new(sampler, 3, 64);
                 s.start(UVec2::new(i, 1), i);
-                let l = tracer(eight_wide).li(&scene, &camera, &mut s, &mut RayCounts::default(), &mut Vec::new());
+                let t = tracer(eight_wide);
+                t.prepare(&scene, &());
+                let l = t.li(&scene, &camera, &mut s, &mut RayCounts::default(), &mut Vec::new());
                 (l, s.next_1d())
             };
             assert_eq!(next(true), next(false), "{name}: sample {i}");

@@ -1,7 +1,6 @@
 //! The renderable scene: camera, film settings, geometry with its accelerator, materials
 //! and lights. Built from a scene description by `penumbra-scene`.
 
-use crate::integrators::path_diffuse::{lane_meshes, LaneMesh};
 use crate::lights::{AreaLight, Environment, Light, LightSet, SceneSphere};
 use crate::{Camera, Filter, Material};
 use glam::Vec3;
@@ -27,10 +26,6 @@ pub struct Scene {
     pub background: Rgb,
     /// Ambient light, reflected by the diffuse albedo of every surface.
     pub ambient: Rgb,
-    /// For each world-space mesh of `geometry`, what the path tracer's eight-lane bounce
-    /// needs if the mesh takes it (one lookup per hit instead of a chain of them); made
-    /// from the fields above by [`Scene::prepared`].
-    pub lane_meshes: Vec<Option<LaneMesh>>,
     /// The bounding sphere of the finite geometry, where lights at infinity send light
     /// paths; made by [`Scene::prepared`].
     pub sphere: SceneSphere,
@@ -45,10 +40,8 @@ pub struct Interaction<'a> {
 }
 
 impl Scene {
-    /// The scene with its derived tables ([`Scene::lane_meshes`], [`Scene::sphere`]) made
-    /// from its fields.
+    /// The scene with its derived table ([`Scene::sphere`]) made from its fields.
     pub fn prepared(mut self) -> Self {
-        self.lane_meshes = lane_meshes(&self);
         let b = self.geometry.finite_bounds();
         self.sphere = if b.is_finite() && !b.is_empty() {
             (b.centroid(), (0.5 * b.extent().length()).max(1e-3))

@@ -181,7 +181,6 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         environment,
         background: desc.background,
         ambient: desc.ambient,
-        lane_meshes: Vec::new(),
         sphere: (glam::Vec3::ZERO, 1.0),
     }
     .prepared())

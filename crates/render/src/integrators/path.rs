@@ -21,8 +21,10 @@
 //! traced one by one ([`PathTracer::li`] is a batch of one).
 
 use super::nee::{self, LightStrategy, Shading};
+use super::path_diffuse::LaneTable;
 use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts, Splat};
 use crate::bsdfs::TransportMode;
+use crate::interface::Progress;
 use crate::lights::{AreaSampling, LightSelection};
 use crate::Scene;
 use glam::Vec3;
@@ -41,6 +43,8 @@ pub struct PathTracer {
     /// Bounces at plain Lambertian surfaces taken eight paths at a time
     /// (`integrators/diffuse_lanes.rs`); the same image either way, `false` only to show that.
     pub eight_wide: bool,
+    /// The scene's meshes that take the eight-lane bounce, made by `prepare`.
+    pub lanes: LaneTable,
 }
 
 impl PathTracer {
@@ -48,6 +52,7 @@ impl PathTracer {
         PathTracer {
             options,
             eight_wide: true,
+            lanes: LaneTable::default(),
         }
     }
 }
@@ -96,6 +101,11 @@ impl Integrator for PathTracer {
     /// The wavefront's batch: [`BATCH`] paths traced and shaded together.
     fn batch_size(&self) -> usize {
         BATCH
+    }
+
+    fn prepare(&self, scene: &Scene, _: &dyn Progress) -> RayCounts {
+        self.lanes.fill(scene);
+        RayCounts::default()
     }
 
     fn li(
@@ -186,6 +196,7 @@ impl PathTracer {
             *l = i;
         }
         let mut count = n;
+        let lanes = self.lanes.read();
         for depth in 0.. {
             // Closest hits of every live path.
             let mut still = 0;
@@ -206,7 +217,7 @@ impl PathTracer {
             others.clear();
             for k in 0..count {
                 let hit = scene.accel.intersect(&paths[live[k]].ray, f32::INFINITY);
-                match hit.and_then(|hit| self.diffuse_lane(scene, k, &hit)) {
+                match hit.and_then(|hit| self.diffuse_lane(scene, &lanes, k, &hit)) {
                     Some(_) if depth + 1 >= self.options.max_depth => paths[live[k]].alive = false,
                     Some(d) => group.push(d),
                     None => others.push((k, hit)),

@@ -17,6 +17,7 @@ use penumbra_core::simd::{self, Level};
 use penumbra_core::{PixelSampler, Rgb};
 use penumbra_geometry::triangle_lanes::{triangle_surface_lanes, SurfaceLanes, TriangleLanes};
 use penumbra_geometry::{Hit, SurfaceHit, TriangleMesh};
+use std::sync::{RwLock, RwLockReadGuard};
 
 /// A path at a plain Lambertian, non-emitting triangle of a world-space mesh, waiting for
 /// the eight-lane bounce (the surface itself is worked out there, in lanes).
@@ -41,9 +42,27 @@ pub struct LaneMesh {
     two_sided: bool,
 }
 
-/// [`Scene::lane_meshes`]: the meshes with a plain Lambertian material (see
-/// [`plain_diffuse`]) that do not emit.
-pub(crate) fn lane_meshes(scene: &Scene) -> Vec<Option<LaneMesh>> {
+/// For each world-space mesh of the scene being rendered, what the eight-lane bounce
+/// needs if the mesh takes it (one lookup per hit instead of a chain of them): the path
+/// tracer's own table, made by its `prepare` for each render.
+#[derive(Debug, Default)]
+pub struct LaneTable(RwLock<Vec<Option<LaneMesh>>>);
+
+impl LaneTable {
+    /// Makes the table for `scene`.
+    pub(super) fn fill(&self, scene: &Scene) {
+        *self.0.write().unwrap_or_else(|e| e.into_inner()) = lane_meshes(scene);
+    }
+
+    /// The table, for one batch of paths (empty before any `fill`: every hit then takes
+    /// the one-path bounce, which gives the same image).
+    pub(super) fn read(&self) -> RwLockReadGuard<'_, Vec<Option<LaneMesh>>> {
+        self.0.read().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// The meshes with a plain Lambertian material (see [`plain_diffuse`]) that do not emit.
+fn lane_meshes(scene: &Scene) -> Vec<Option<LaneMesh>> {
     scene
         .geometry
         .meshes()
@@ -272,14 +291,20 @@ impl Lanes3 {
 impl PathTracer {
     /// `hit` as a lane of the eight-wide bounce, if it is one: a plain Lambertian,
     /// non-emitting triangle of a world-space mesh.
-    pub(super) fn diffuse_lane<'s>(&self, scene: &'s Scene, k: usize, hit: &Hit) -> Option<DiffuseLane<'s>> {
+    pub(super) fn diffuse_lane<'s>(
+        &self,
+        scene: &'s Scene,
+        lanes: &'s [Option<LaneMesh>],
+        k: usize,
+        hit: &Hit,
+    ) -> Option<DiffuseLane<'s>> {
         if !self.eight_wide {
             return None;
         }
         let (mesh, triangle) = scene.geometry.pooled_index(hit)?;
         Some(DiffuseLane {
             k,
-            lane: scene.lane_meshes.get(mesh)?.as_ref()?,
+            lane: lanes.get(mesh)?.as_ref()?,
             mesh: &scene.geometry.meshes()[mesh].0,
             triangle,
             b: hit.uv,

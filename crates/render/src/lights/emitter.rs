@@ -82,6 +82,48 @@ impl Emitter {
         })
     }
 
+    /// The nearest point (either side) where the ray from `p` along `w` meets the surface,
+    /// with the front normal there: for densities of directions found by other means.
+    pub fn intersect(&self, p: Vec3, w: Vec3) -> Option<(Vec3, Vec3)> {
+        // The plane through `o` spanned by `a` and `b`, at coordinates inside `inside`.
+        let plane = |o: Vec3, a: Vec3, b: Vec3, inside: &dyn Fn(f32, f32) -> bool| {
+            let n = a.cross(b);
+            let t = (o - p).dot(n) / w.dot(n);
+            if !(t > 0.0 && t.is_finite()) {
+                return None;
+            }
+            let q = p + t * w;
+            let d = q - o;
+            let (aa, ab, bb) = (a.dot(a), a.dot(b), b.dot(b));
+            let (da, db) = (d.dot(a), d.dot(b));
+            let det = aa * bb - ab * ab;
+            inside((bb * da - ab * db) / det, (aa * db - ab * da) / det).then(|| (q, n.normalize()))
+        };
+        match &self.shape {
+            EmitterShape::Quad { corner, e1, e2 } => plane(*corner, *e1, *e2, &|s, t| {
+                (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t)
+            }),
+            EmitterShape::Disk { center, a1, a2 } => plane(*center, *a1, *a2, &|x, y| x * x + y * y <= 1.0),
+            EmitterShape::Triangle { v } => plane(v[0], v[1] - v[0], v[2] - v[0], &|s, t| {
+                s >= 0.0 && t >= 0.0 && s + t <= 1.0
+            }),
+            EmitterShape::Sphere { center, radius } => {
+                let oc = p - *center;
+                let b = oc.dot(w);
+                let disc = b * b - (oc.length_squared() - radius * radius);
+                if disc < 0.0 {
+                    return None;
+                }
+                let root = disc.sqrt();
+                let t = if -b - root > 0.0 { -b - root } else { -b + root };
+                (t > 0.0).then(|| {
+                    let q = p + t * w;
+                    (q, (q - *center) / *radius)
+                })
+            }
+        }
+    }
+
     pub fn shape(&self) -> &EmitterShape {
         &self.shape
     }

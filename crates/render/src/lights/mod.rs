@@ -9,8 +9,11 @@
 //! Lights at infinity (directional, environment) emit from a disk of the scene's bounding
 //! sphere's radius facing the direction, so that the rays cover the whole scene.
 //!
-//! Adding a light: a new file with `sample_li`, `sample_le`, `pdf_le` and `power`, a variant
-//! in [`Light`] and an arm in each match.
+//! Adding a light: a new file with what the methods of [`Light`] ask of it, a variant and
+//! its name in [`Light::NAMES`], and an arm in each match below. Every match here is
+//! exhaustive (no catch-all arm), so the compiler names each place a new kind must answer:
+//! the integrators ask [`Light`] and never match on kinds themselves. The light test table
+//! (`lights/tests_table.rs`) fails until the new kind has a case.
 
 mod area;
 mod directional;
@@ -21,6 +24,8 @@ pub mod environment;
 mod point;
 mod set;
 mod spot;
+#[cfg(test)]
+mod tests_table;
 
 pub use area::{AreaLight, AreaSampling, EmissionTexture};
 pub use directional::Directional;
@@ -92,6 +97,69 @@ pub enum Light {
 }
 
 impl Light {
+    /// Every kind's name, in the order of the variants.
+    pub const NAMES: [&'static str; 5] = ["point", "spot", "directional", "area", "environment"];
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            Light::Point(_) => Self::NAMES[0],
+            Light::Spot(_) => Self::NAMES[1],
+            Light::Directional(_) => Self::NAMES[2],
+            Light::Area(_) => Self::NAMES[3],
+            Light::Environment(_) => Self::NAMES[4],
+        }
+    }
+
+    /// The solid-angle density with which [`Light::sample_li`] gives direction `wi` at
+    /// `p` (0 for delta lights, which no other direction meets, and where `wi` misses).
+    pub fn pdf_li(&self, p: Vec3, wi: Vec3, strategy: AreaSampling) -> f32 {
+        match self {
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
+            Light::Area(l) => l
+                .emitter
+                .intersect(p, wi)
+                .map_or(0.0, |(point, normal)| l.pdf(p, point, normal, strategy)),
+            Light::Environment(l) => l.pdf(wi),
+        }
+    }
+
+    /// Radiance the light sends along `w` from its point `point` (for lights at infinity:
+    /// travelling along `w`, whatever the point); black for delta lights, which no ray
+    /// meets.
+    pub fn emitted(&self, point: Vec3, w: Vec3) -> Rgb {
+        match self {
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => Rgb::BLACK,
+            Light::Area(l) => l.le(point, l.emitter.normal_at(point), w),
+            Light::Environment(l) => l.le(-w),
+        }
+    }
+
+    /// The front normal of the light's surface at `point`; `None` for lights without one.
+    pub fn surface_normal(&self, point: Vec3) -> Option<Vec3> {
+        match self {
+            Light::Area(l) => Some(l.emitter.normal_at(point)),
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Environment(_) => None,
+        }
+    }
+
+    /// The density with which a light path's ray comes in from infinity along `dir` (the
+    /// environment's direction density); 0 for finite lights and delta directions.
+    pub fn pdf_from_infinity(&self, dir: Vec3) -> f32 {
+        match self {
+            Light::Environment(l) => l.pdf(-dir),
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Area(_) => 0.0,
+        }
+    }
+
+    /// Whether a path vertex on this light can be joined to another by a shadow ray: not
+    /// for a single direction of travel (directional light).
+    pub fn connectible(&self) -> bool {
+        match self {
+            Light::Directional(_) => false,
+            Light::Point(_) | Light::Spot(_) | Light::Area(_) | Light::Environment(_) => true,
+        }
+    }
+
     /// Light arriving at `p`; `u` and `strategy` choose the point on area lights.
     pub fn sample_li(&self, p: Vec3, u: Vec2, strategy: AreaSampling) -> Option<LightSample> {
         match self {
@@ -131,12 +199,18 @@ impl Light {
 
     /// Whether the light lies at infinity (directional, environment).
     pub fn is_infinite(&self) -> bool {
-        matches!(self, Light::Directional(_) | Light::Environment(_))
+        match self {
+            Light::Directional(_) | Light::Environment(_) => true,
+            Light::Point(_) | Light::Spot(_) | Light::Area(_) => false,
+        }
     }
 
     /// Whether the light is a delta distribution (reachable only by light sampling).
     pub fn is_delta(&self) -> bool {
-        !matches!(self, Light::Area(_) | Light::Environment(_))
+        match self {
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => true,
+            Light::Area(_) | Light::Environment(_) => false,
+        }
     }
 
     /// Total emitted power (a luminance), for choosing among lights.

@@ -258,11 +258,7 @@ impl Bdpt {
                         1.0
                     };
             }
-            let env_pdf = match light {
-                crate::Light::Environment(env) => env.pdf(-e.ray.dir),
-                _ => 0.0,
-            };
-            path[0].pdf_fwd = pick * env_pdf;
+            path[0].pdf_fwd = pick * light.pdf_from_infinity(e.ray.dir);
         }
     }
 
@@ -424,11 +420,7 @@ fn connect(
         }
         let (p, ng) = if ls.dist.is_finite() {
             let p = pt.p + ls.wi * ls.dist;
-            let n = match light_ref {
-                crate::Light::Area(a) => a.emitter.normal_at(p),
-                _ => Vec3::ZERO,
-            };
-            (p, n)
+            (p, light_ref.surface_normal(p).unwrap_or(Vec3::ZERO))
         } else {
             (pt.p + ls.wi, -ls.wi)
         };

@@ -97,7 +97,7 @@ impl<'a> Vertex<'a> {
     pub fn is_connectible(&self, scene: &Scene) -> bool {
         match self.kind {
             Kind::Camera => !self.delta,
-            Kind::Light { .. } => !matches!(self.light(scene), Some((_, Light::Directional(_)))),
+            Kind::Light { .. } => self.light(scene).is_none_or(|(_, l)| l.connectible()),
             Kind::Surface { bsdf, .. } => bsdf.has_smooth(),
         }
     }
@@ -211,19 +211,15 @@ impl<'a> Vertex<'a> {
             return 0.0;
         };
         let pick = scene.lights.pmf(LightSelection::Power, index);
-        match light {
-            Light::Environment(env) if self.is_infinite() => pick * env.pdf(-w),
-            Light::Directional(_) => 0.0,
-            _ => pick * light.pdf_le(w, self.light_normal(light), scene.sphere).0,
+        if self.is_infinite() {
+            return pick * light.pdf_from_infinity(w);
         }
+        pick * light.pdf_le(w, self.light_normal(light), scene.sphere).0
     }
 
     /// The light's front normal at this vertex.
     fn light_normal(&self, light: &Light) -> Vec3 {
-        match light {
-            Light::Area(a) => a.emitter.normal_at(self.p),
-            _ => self.ng,
-        }
+        light.surface_normal(self.p).unwrap_or(self.ng)
     }
 
     /// Radiance this vertex's light sends towards `v`.
@@ -231,11 +227,7 @@ impl<'a> Vertex<'a> {
         let (Some((_, light)), Some((w, _))) = (self.light(scene), self.towards(v)) else {
             return Rgb::BLACK;
         };
-        match light {
-            Light::Environment(env) => env.le(-w),
-            Light::Area(a) => a.le(self.p, a.emitter.normal_at(self.p), w),
-            _ => Rgb::BLACK,
-        }
+        light.emitted(self.p, w)
     }
 
     /// Where rays towards `target` leave this vertex: pushed off a surface on its side.
