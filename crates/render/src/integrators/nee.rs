@@ -5,6 +5,7 @@
 use super::{shadow_ray, MisHeuristic, RayCounts};
 use crate::bsdfs::{Bsdf, TransportMode};
 use crate::lights::{AreaLight, AreaSampling, Environment, LightSelection};
+use crate::lights::environment::MapPoint;
 use crate::{Interaction, Scene};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Real, V3};
@@ -160,11 +161,11 @@ pub(super) fn environment_weight(
     scene: &Scene,
     (selection, heuristic): (LightSelection, MisHeuristic),
     (index, env): (u32, &Environment),
-    dir: Vec3,
+    at: &MapPoint,
     (n_bsdf, p_bsdf): (f32, f32),
     n_light: f32,
 ) -> f32 {
-    let p_light = scene.lights.pmf(selection, index) * env.pdf(dir);
+    let p_light = scene.lights.pmf(selection, index) * env.pdf_at(at);
     heuristic.weight(n_bsdf * p_bsdf, n_light * p_light)
 }
 
@@ -233,17 +234,18 @@ pub(super) fn bsdf_light_sample(
                 Rgb::BLACK
             };
         };
+        let at = env.1.lookup(wi);
         let weight = mis.map_or(1.0, |m| {
             environment_weight(
                 scene,
                 (m.selection, m.heuristic),
                 env,
-                wi,
+                &at,
                 (m.n_bsdf, bs.pdf),
                 m.n_light,
             )
         });
-        return bs.weight * env.1.le(wi) * weight;
+        return bs.weight * env.1.le_at(&at) * weight;
     };
     let Some((index, light)) = scene.emitter_at(&hit) else {
         return Rgb::BLACK;

@@ -235,11 +235,12 @@ impl PathTracer {
                     path.radiance += path.beta
                         * match scene.environment() {
                             Some(env) => {
+                                let at = env.1.lookup(path.ray.dir);
                                 let weight = path.previous_pdf.map_or(1.0, |p_bsdf| {
                                     let mis = (selection, heuristic);
-                                    nee::environment_weight(scene, mis, env, path.ray.dir, (1.0, p_bsdf), 1.0)
+                                    nee::environment_weight(scene, mis, env, &at, (1.0, p_bsdf), 1.0)
                                 });
-                                env.1.le(path.ray.dir) * weight
+                                env.1.le_at(&at) * weight
                             }
                             None => scene.background,
                         };

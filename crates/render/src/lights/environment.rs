@@ -14,6 +14,10 @@ use glam::{Mat3, Vec2, Vec3};
 use penumbra_core::{warp, Distribution2D, Ray, Rgb};
 use std::f32::consts::PI;
 
+/// A direction's place on the map: (u, v) and sin θ (see [`Environment::lookup`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapPoint(Vec2, f32);
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Environment {
     image: Option<(TextureImage, Distribution2D)>,
@@ -78,6 +82,18 @@ impl Environment {
         })
     }
 
+    /// Where the world direction `d` falls on the map, for [`Environment::le_at`] and
+    /// [`Environment::pdf_at`]: a direction's radiance and density share one lookup.
+    pub fn lookup(&self, d: Vec3) -> MapPoint {
+        match self.image {
+            None => MapPoint(Vec2::ZERO, 1.0),
+            Some(_) => {
+                let (uv, sin_theta) = self.map_coordinates(d);
+                MapPoint(uv, sin_theta)
+            }
+        }
+    }
+
     /// (u, v) in the map of the world direction `d`, and sin θ there.
     fn map_coordinates(&self, d: Vec3) -> (Vec2, f32) {
         let d = (self.to_local * d).normalize();
@@ -98,10 +114,15 @@ impl Environment {
 
     /// Radiance arriving from direction `d` (pointing away from the scene).
     pub fn le(&self, d: Vec3) -> Rgb {
+        self.le_at(&self.lookup(d))
+    }
+
+    /// Radiance arriving from the direction that `at` looked up.
+    pub fn le_at(&self, at: &MapPoint) -> Rgb {
         let Some((image, _)) = &self.image else {
             return self.scale;
         };
-        let (uv, _) = self.map_coordinates(d);
+        let uv = at.0;
         let x = ((uv.x * image.width as f32) as usize).min(image.width - 1);
         let y = ((uv.y * image.height as f32) as usize).min(image.height - 1);
         image.pixels[y * image.width + x] * self.scale
@@ -117,9 +138,18 @@ impl Environment {
                 if sin_theta <= 0.0 {
                     return None;
                 }
-                // The density of the pixel the direction maps back to, which is the one
-                // `le` reads (rounding can move a point sampled at a cell's edge across it).
-                (wi, self.pdf(wi))
+                // The radiance and density of the sampled point's own pixel (as Mitsuba's
+                // `envmap` takes them): no mapping of the direction back to the map. The
+                // point stays inside its cell, so it is the pixel the density chose.
+                let at = MapPoint(Vec2::new(x, y), sin_theta);
+                let pdf = self.pdf_at(&at);
+                return (pdf > 0.0 && pdf.is_finite()).then(|| LightSample {
+                    wi,
+                    li: self.le_at(&at),
+                    dist: f32::INFINITY,
+                    pdf,
+                    delta: false,
+                });
             }
         };
         (pdf > 0.0 && pdf.is_finite()).then(|| LightSample {
@@ -133,10 +163,15 @@ impl Environment {
 
     /// Solid-angle density of [`Environment::sample_li`] at direction `d`.
     pub fn pdf(&self, d: Vec3) -> f32 {
+        self.pdf_at(&self.lookup(d))
+    }
+
+    /// Solid-angle density of [`Environment::sample_li`] at the direction `at` looked up.
+    pub fn pdf_at(&self, at: &MapPoint) -> f32 {
         let Some((_, distribution)) = &self.image else {
             return 1.0 / (4.0 * PI);
         };
-        let (uv, sin_theta) = self.map_coordinates(d);
+        let MapPoint(uv, sin_theta) = *at;
         if sin_theta <= 0.0 {
             return 0.0;
         }

@@ -1,0 +1,283 @@
+//! The shading kernels one family at a time: every registered BSDF kind (sample, then eval
+//! and pdf at the sampled direction), every light kind (`sample_li` from a shading point)
+//! and every texture kind (`eval`), each over 4,096 inputs, in elements per second. Where a
+//! family has an eight-lane kernel today it is measured beside its scalar form on the same
+//! inputs (triangle-light sampling: the point by area and its solid-angle density); the
+//! other kinds have no lane form yet (issue 24), and this is where theirs will be measured.
+//!
+//! `cargo bench --bench kernels` (add `-- bsdf` or `-- light` or `-- texture` for one).
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use glam::{Mat3, Vec2, Vec3};
+use penumbra::math::lanes::{Real, F8, V3};
+use penumbra::math::{warp, Pcg32, Rgb};
+use penumbra::renderer::bsdfs::{MetalFresnel, TransportMode};
+use penumbra::renderer::lights::emitter::{area_to_solid_angle, triangle_point, Emitter, EmitterShape};
+use penumbra::renderer::lights::{AreaLight, AreaSampling, Directional, Environment, Point, Spot};
+use penumbra::renderer::materials::{metal_ior, Coated, Phong, Roughness};
+use penumbra::renderer::texture::TextureImage;
+use penumbra::renderer::{Light, Material, Texture};
+use std::hint::black_box;
+use std::sync::Arc;
+
+const N: usize = 4096;
+
+fn grey(v: f32) -> Texture {
+    Texture::Constant(Rgb::splat(v))
+}
+
+/// Random views from the upper hemisphere and sample points.
+fn inputs() -> Vec<(Vec3, f32, Vec2)> {
+    let mut rng = Pcg32::new(7, 2);
+    (0..N)
+        .map(|_| {
+            let wo = warp::uniform_hemisphere(Vec2::new(rng.next_f32(), rng.next_f32()));
+            (wo, rng.next_f32(), Vec2::new(rng.next_f32(), rng.next_f32()))
+        })
+        .collect()
+}
+
+fn materials() -> Vec<(&'static str, Material)> {
+    let (eta, k) = metal_ior("Au").expect("gold");
+    let rough = |a: f32| Some(Roughness::isotropic(a));
+    vec![
+        ("diffuse", Material::Diffuse { reflectance: grey(0.6) }),
+        (
+            "phong",
+            Material::Phong(Phong {
+                diffuse: grey(0.4),
+                specular: Rgb::splat(0.3),
+                exponent: 30.0,
+                ..Default::default()
+            }),
+        ),
+        (
+            "rough conductor",
+            Material::Conductor {
+                fresnel: MetalFresnel::Complex { eta, k },
+                specular: grey(1.0),
+                roughness: rough(0.2),
+            },
+        ),
+        (
+            "rough dielectric",
+            Material::Dielectric {
+                eta: 1.5,
+                reflectance: grey(1.0),
+                transmittance: grey(1.0),
+                roughness: rough(0.2),
+            },
+        ),
+        ("rough plastic", Material::plastic(grey(0.5), grey(1.0), 1.5, rough(0.1))),
+        (
+            "blend",
+            Material::Blend {
+                a: Box::new(Material::Diffuse { reflectance: grey(0.8) }),
+                b: Box::new(Material::Conductor {
+                    fresnel: MetalFresnel::Complex { eta, k },
+                    specular: grey(1.0),
+                    roughness: rough(0.3),
+                }),
+                weight: grey(0.5),
+            },
+        ),
+        (
+            "coated diffuse",
+            Material::Coated(Coated {
+                roughness: rough(0.1),
+                ..Coated::default()
+            }),
+        ),
+    ]
+}
+
+fn bsdfs(c: &mut Criterion) {
+    let inputs = inputs();
+    let mode = TransportMode::Radiance;
+    let mut group = c.benchmark_group("bsdf sample + eval + pdf");
+    group.throughput(Throughput::Elements(N as u64));
+    for (name, material) in materials() {
+        let bsdf = material.bsdf(Vec2::ZERO);
+        group.bench_function(BenchmarkId::new("scalar", name), |b| {
+            b.iter(|| {
+                let mut sum = 0.0f32;
+                for &(wo, u, u2) in &inputs {
+                    if let Some(s) = bsdf.sample(wo, u, u2, mode) {
+                        sum += s.weight.r + bsdf.eval(wo, s.wi, mode).g + bsdf.pdf(wo, s.wi, mode);
+                    }
+                }
+                black_box(sum)
+            })
+        });
+    }
+    group.finish();
+}
+
+fn lights() -> Vec<(&'static str, Light)> {
+    let emitter = |shape| Emitter::new(shape).expect("has area");
+    let area = |shape| {
+        Light::Area(AreaLight {
+            emitter: emitter(shape),
+            radiance: Rgb::splat(3.0),
+            two_sided: false,
+            texture: None,
+        })
+    };
+    let sky = TextureImage {
+        width: 64,
+        height: 32,
+        pixels: (0..64 * 32)
+            .map(|i| Rgb::splat(0.2 + ((i * 7919) % 101) as f32 / 50.0))
+            .collect(),
+        wrap: Default::default(),
+    };
+    vec![
+        (
+            "point",
+            Light::Point(Point {
+                position: Vec3::new(0.0, 0.0, 2.0),
+                intensity: Rgb::splat(5.0),
+            }),
+        ),
+        ("spot", Light::Spot(Spot::new(Vec3::Z * 2.0, -Vec3::Z, Rgb::splat(5.0), 30.0, 20.0))),
+        (
+            "directional",
+            Light::Directional(Directional {
+                direction: -Vec3::Z,
+                irradiance: Rgb::WHITE,
+            }),
+        ),
+        (
+            "quad (spherical rectangle)",
+            area(EmitterShape::Quad {
+                corner: Vec3::new(-0.5, -0.5, 1.0),
+                e1: Vec3::X,
+                e2: Vec3::Y,
+            }),
+        ),
+        (
+            "triangle (spherical triangle)",
+            area(EmitterShape::Triangle {
+                v: [Vec3::new(-0.5, -0.5, 1.0), Vec3::new(0.5, -0.5, 1.0), Vec3::new(0.0, 0.6, 1.2)],
+            }),
+        ),
+        (
+            "sphere (cone)",
+            area(EmitterShape::Sphere {
+                center: Vec3::new(0.0, 0.0, 2.0),
+                radius: 0.5,
+            }),
+        ),
+        (
+            "environment map",
+            Light::Environment(Environment::image(sky, Rgb::WHITE, Mat3::IDENTITY).expect("a valid map")),
+        ),
+    ]
+}
+
+fn light_kernels(c: &mut Criterion) {
+    let inputs = inputs();
+    let points: Vec<Vec3> = inputs.iter().map(|&(wo, _, _)| wo * 0.3).collect();
+    let mut group = c.benchmark_group("light sample_li");
+    group.throughput(Throughput::Elements(N as u64));
+    for (name, light) in lights() {
+        group.bench_function(BenchmarkId::new("scalar", name), |b| {
+            b.iter(|| {
+                let mut sum = 0.0f32;
+                for (p, &(_, _, u)) in points.iter().zip(&inputs) {
+                    if let Some(s) = light.sample_li(*p, u, AreaSampling::SolidAngle) {
+                        sum += s.li.r / s.pdf;
+                    }
+                }
+                black_box(sum)
+            })
+        });
+    }
+    group.finish();
+
+    // The one light kernel with a lane form: a triangle light's point by area and its
+    // solid-angle density, as the path tracer's eight-lane bounce takes it.
+    let tri = [Vec3::new(-0.5, -0.5, 1.0), Vec3::new(0.5, -0.5, 1.0), Vec3::new(0.0, 0.6, 1.2)];
+    let e = emitter_of(tri);
+    let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize();
+    let mut group = c.benchmark_group("triangle light by area");
+    group.throughput(Throughput::Elements(N as u64));
+    group.bench_function("scalar", |b| {
+        b.iter(|| {
+            let mut sum = 0.0f32;
+            for (p, &(_, _, u)) in points.iter().zip(&inputs) {
+                let (q, n) = e.sample_area(u);
+                sum += e.area_pdf_to_solid_angle(*p, q, n).unwrap_or(0.0);
+            }
+            black_box(sum)
+        })
+    });
+    group.bench_function("8 lanes", |b| {
+        let corners = tri.map(|v| V3::from_lanes(&[v; 8]));
+        let (normals, area) = (V3::from_lanes(&[normal; 8]), F8::splat(e.area()));
+        b.iter(|| {
+            let mut sum = F8::splat(0.0);
+            for (p, i) in points.chunks_exact(8).zip(inputs.chunks_exact(8)) {
+                let ux = F8::from(std::array::from_fn(|k| i[k].2.x));
+                let uy = F8::from(std::array::from_fn(|k| i[k].2.y));
+                let (b1, b2) = warp::uniform_triangle_lanes(ux, uy);
+                let q = triangle_point(corners, b1, b2);
+                let p: &[Vec3; 8] = p.try_into().expect("chunks of eight");
+                let (pdf, ok) = area_to_solid_angle(V3::from_lanes(p), q, normals, area);
+                sum = sum + F8::select(ok, pdf, F8::splat(0.0));
+            }
+            black_box(sum)
+        })
+    });
+    group.finish();
+}
+
+fn emitter_of(v: [Vec3; 3]) -> Emitter {
+    Emitter::new(EmitterShape::Triangle { v }).expect("a triangle with area")
+}
+
+fn textures(c: &mut Criterion) {
+    let mut rng = Pcg32::new(5, 9);
+    let uvs: Vec<Vec2> = (0..N).map(|_| Vec2::new(rng.next_f32() * 3.0, rng.next_f32() * 3.0)).collect();
+    let image = TextureImage {
+        width: 256,
+        height: 256,
+        pixels: (0..256 * 256).map(|i| Rgb::splat((i % 251) as f32 / 251.0)).collect(),
+        wrap: Default::default(),
+    };
+    let kinds = [
+        ("constant", grey(0.5)),
+        (
+            "checker",
+            Texture::Checker {
+                even: Rgb::WHITE,
+                odd: Rgb::BLACK,
+                size: 0.1,
+            },
+        ),
+        (
+            "image",
+            Texture::Image {
+                image: Arc::new(image),
+                scale: 1.0,
+            },
+        ),
+    ];
+    let mut group = c.benchmark_group("texture eval");
+    group.throughput(Throughput::Elements(N as u64));
+    for (name, texture) in kinds {
+        group.bench_function(BenchmarkId::new("scalar", name), |b| {
+            b.iter(|| {
+                let mut sum = 0.0f32;
+                for uv in &uvs {
+                    sum += texture.eval(*uv).g;
+                }
+                black_box(sum)
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bsdfs, light_kernels, textures);
+criterion_main!(benches);
