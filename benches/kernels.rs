@@ -68,7 +68,10 @@ fn materials() -> Vec<(&'static str, Material)> {
                 roughness: rough(0.2),
             },
         ),
-        ("rough plastic", Material::plastic(grey(0.5), grey(1.0), 1.5, rough(0.1))),
+        (
+            "rough plastic",
+            Material::plastic(grey(0.5), grey(1.0), 1.5, rough(0.1)),
+        ),
         (
             "blend",
             Material::Blend {
@@ -139,7 +142,10 @@ fn lights() -> Vec<(&'static str, Light)> {
                 intensity: Rgb::splat(5.0),
             }),
         ),
-        ("spot", Light::Spot(Spot::new(Vec3::Z * 2.0, -Vec3::Z, Rgb::splat(5.0), 30.0, 20.0))),
+        (
+            "spot",
+            Light::Spot(Spot::new(Vec3::Z * 2.0, -Vec3::Z, Rgb::splat(5.0), 30.0, 20.0)),
+        ),
         (
             "directional",
             Light::Directional(Directional {
@@ -158,7 +164,11 @@ fn lights() -> Vec<(&'static str, Light)> {
         (
             "triangle (spherical triangle)",
             area(EmitterShape::Triangle {
-                v: [Vec3::new(-0.5, -0.5, 1.0), Vec3::new(0.5, -0.5, 1.0), Vec3::new(0.0, 0.6, 1.2)],
+                v: [
+                    Vec3::new(-0.5, -0.5, 1.0),
+                    Vec3::new(0.5, -0.5, 1.0),
+                    Vec3::new(0.0, 0.6, 1.2),
+                ],
             }),
         ),
         (
@@ -195,9 +205,33 @@ fn light_kernels(c: &mut Criterion) {
     }
     group.finish();
 
+    // What a path that escapes pays: the environment's radiance and density (for the MIS
+    // weight) in its direction.
+    let (_, env) = lights().pop().expect("the environment is last");
+    let Light::Environment(env) = env else {
+        unreachable!("the last light is the environment")
+    };
+    let mut group = c.benchmark_group("environment lookup");
+    group.throughput(Throughput::Elements(N as u64));
+    group.bench_function("scalar", |b| {
+        b.iter(|| {
+            let mut sum = 0.0f32;
+            for &(wo, _, _) in &inputs {
+                let at = env.lookup(wo);
+                sum += env.le_at(&at).r + env.pdf_at(&at);
+            }
+            black_box(sum)
+        })
+    });
+    group.finish();
+
     // The one light kernel with a lane form: a triangle light's point by area and its
     // solid-angle density, as the path tracer's eight-lane bounce takes it.
-    let tri = [Vec3::new(-0.5, -0.5, 1.0), Vec3::new(0.5, -0.5, 1.0), Vec3::new(0.0, 0.6, 1.2)];
+    let tri = [
+        Vec3::new(-0.5, -0.5, 1.0),
+        Vec3::new(0.5, -0.5, 1.0),
+        Vec3::new(0.0, 0.6, 1.2),
+    ];
     let e = emitter_of(tri);
     let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize();
     let mut group = c.benchmark_group("triangle light by area");
@@ -238,7 +272,9 @@ fn emitter_of(v: [Vec3; 3]) -> Emitter {
 
 fn textures(c: &mut Criterion) {
     let mut rng = Pcg32::new(5, 9);
-    let uvs: Vec<Vec2> = (0..N).map(|_| Vec2::new(rng.next_f32() * 3.0, rng.next_f32() * 3.0)).collect();
+    let uvs: Vec<Vec2> = (0..N)
+        .map(|_| Vec2::new(rng.next_f32() * 3.0, rng.next_f32() * 3.0))
+        .collect();
     let image = TextureImage {
         width: 256,
         height: 256,

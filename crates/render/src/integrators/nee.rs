@@ -4,8 +4,8 @@
 
 use super::{shadow_ray, MisHeuristic, RayCounts};
 use crate::bsdfs::{Bsdf, TransportMode};
-use crate::lights::{AreaLight, AreaSampling, Environment, LightSelection};
 use crate::lights::environment::MapPoint;
+use crate::lights::{AreaLight, AreaSampling, Environment, LightSelection};
 use crate::{Interaction, Scene};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Real, V3};
