@@ -9,11 +9,17 @@
 /// Items `0..n` with probability proportional to their weights.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Distribution1D {
-    /// `cdf[i]` = sum of the weights before item `i`, normalized; `cdf[n]` = 1.
-    cdf: Vec<f32>,
+    /// Entry `i`: the CDF before item `i` (sum of the weights before it, normalized; 1 at
+    /// `i = n`), and the guide table's item that u = i / n falls in. Side by side, so that
+    /// the guide entry of a bucket and the CDF near it share a cache line.
+    table: Vec<Entry>,
     total: f64,
-    /// `guide[j]`: the item that u = j / n falls in (j = 0..=n, n = `len`).
-    guide: Vec<u32>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Entry {
+    cdf: f32,
+    guide: u32,
 }
 
 impl Distribution1D {
@@ -31,21 +37,29 @@ impl Distribution1D {
         if total <= 0.0 {
             return None;
         }
-        let cdf: Vec<f32> = sums.iter().map(|s| (s / total) as f32).collect();
-        let n = cdf.len() - 1;
+        let table = sums.iter().map(|s| Entry {
+            cdf: (s / total) as f32,
+            guide: 0,
+        });
         let mut d = Distribution1D {
-            cdf,
+            table: table.collect(),
             total,
-            guide: Vec::new(),
         };
-        d.guide = (0..=n).map(|j| d.search(j as f32 / n as f32) as u32).collect();
+        let n = d.len();
+        for j in 0..=n {
+            d.table[j].guide = d.search(j as f32 / n as f32) as u32;
+        }
         Some(d)
+    }
+
+    fn cdf(&self, i: usize) -> f32 {
+        self.table[i].cdf
     }
 
     /// The last item i with cdf[i] <= u (so skipping empty intervals), by binary search of
     /// the whole CDF.
     fn search(&self, u: f32) -> usize {
-        self.cdf.partition_point(|&c| c <= u).clamp(1, self.len()) - 1
+        self.table.partition_point(|e| e.cdf <= u).clamp(1, self.len()) - 1
     }
 
     /// [`Distribution1D::search`]'s answer, searched for between the guide table's items
@@ -54,15 +68,15 @@ impl Distribution1D {
     fn find(&self, u: f32) -> usize {
         let n = self.len();
         let j = ((u * n as f32) as usize).min(n - 1);
-        let (lo, hi) = (self.guide[j] as usize, self.guide[j + 1] as usize);
-        if !(self.cdf[lo] <= u && (hi == n - 1 || u < self.cdf[hi + 1])) {
+        let (lo, hi) = (self.table[j].guide as usize, self.table[j + 1].guide as usize);
+        if !(self.cdf(lo) <= u && (hi == n - 1 || u < self.cdf(hi + 1))) {
             return self.search(u);
         }
-        lo + self.cdf[lo + 1..=hi].partition_point(|&c| c <= u)
+        lo + self.table[lo + 1..=hi].partition_point(|e| e.cdf <= u)
     }
 
     pub fn len(&self) -> usize {
-        self.cdf.len() - 1
+        self.table.len() - 1
     }
 
     pub fn is_empty(&self) -> bool {
@@ -76,7 +90,7 @@ impl Distribution1D {
 
     /// Probability of item `i`.
     pub fn pmf(&self, i: usize) -> f32 {
-        self.cdf.get(i + 1).map_or(0.0, |hi| hi - self.cdf[i])
+        self.table.get(i + 1).map_or(0.0, |hi| hi.cdf - self.cdf(i))
     }
 
     /// The item whose CDF interval holds `u` in [0, 1), its probability, and `u` rescaled to
@@ -85,7 +99,7 @@ impl Distribution1D {
     pub fn sample(&self, u: f32) -> (usize, f32, f32) {
         let i = self.find(u);
         let pmf = self.pmf(i);
-        let rest = ((u - self.cdf[i]) / pmf).clamp(0.0, crate::samplers::ONE_MINUS_EPSILON);
+        let rest = ((u - self.cdf(i)) / pmf).clamp(0.0, crate::samplers::ONE_MINUS_EPSILON);
         (i, pmf, rest)
     }
 }
