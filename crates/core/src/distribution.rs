@@ -225,7 +225,9 @@ mod tests {
         let mut spiky: Vec<f32> = (0..513).map(|_| rng.next_f32() * 1e-4).collect();
         spiky[200] = 1e3;
         spiky[201] = 5.0;
-        let sparse: Vec<f32> = (0..300).map(|i| if i % 37 == 0 { (i + 1) as f32 } else { 0.0 }).collect();
+        let sparse: Vec<f32> = (0..300)
+            .map(|i| if i % 37 == 0 { (i + 1) as f32 } else { 0.0 })
+            .collect();
         let flat = vec![1.0f32; 1024];
         let tiny = vec![0.0, 2.0];
         for weights in [spiky, sparse, flat, tiny] {

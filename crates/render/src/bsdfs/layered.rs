@@ -27,6 +27,7 @@
 //! of the samples go). Any positive density keeps the MIS weights summing to one.
 
 use super::{reflect_z, BsdfModel, BsdfSample, Conductor, Dielectric, Diffuse, Lobe, SpecularRays, TransportMode};
+use crate::mis::MisHeuristic;
 use crate::optics::{fresnel_dielectric, refract};
 use crate::phase::HenyeyGreenstein;
 use glam::{Vec2, Vec3};
@@ -116,14 +117,7 @@ impl Walk {
 
 /// Veach's power heuristic (β = 2) for one sample of each of two strategies.
 fn power_heuristic(a: f32, b: f32) -> f32 {
-    let (a2, b2) = (a * a, b * b);
-    if a2.is_infinite() {
-        1.0
-    } else if a2 + b2 > 0.0 {
-        a2 / (a2 + b2)
-    } else {
-        0.0
-    }
+    MisHeuristic::Power.weight(a, b)
 }
 
 /// Transmittance across a height `dz` of the unit-extinction medium along `w`.

@@ -16,8 +16,9 @@ mod photons;
 mod sppm;
 mod whitted;
 
+pub use crate::mis::MisHeuristic;
 pub use bdpt::{strategy_layer, Bdpt};
-pub use direct::{Direct, DirectOptions, LightSampling, MisHeuristic};
+pub use direct::{Direct, DirectOptions, LightSampling};
 pub use env::{EnvDirect, EnvOptions, EnvSampling};
 pub use mlt::{Mlt, MltOptions};
 pub use path::{PathTracer, BATCH, RR_DEPTH};

@@ -9,41 +9,6 @@ use std::f32::consts::PI;
 /// Chi-square tests in this file, for the significance correction.
 const TESTS: usize = 10;
 
-/// Whether the ray from `p` along `w` meets the emitter (brute force, for the tests' densities).
-fn meets(e: &Emitter, p: Vec3, w: Vec3) -> bool {
-    let plane = |o: Vec3, a: Vec3, b: Vec3, inside: &dyn Fn(f32, f32) -> bool| {
-        let n = a.cross(b);
-        let denom = w.dot(n);
-        if denom == 0.0 {
-            return false;
-        }
-        let t = (o - p).dot(n) / denom;
-        if t <= 0.0 {
-            return false;
-        }
-        let d = p + t * w - o;
-        // Coordinates in the (a, b) basis.
-        let (aa, ab, bb) = (a.dot(a), a.dot(b), b.dot(b));
-        let (da, db) = (d.dot(a), d.dot(b));
-        let det = aa * bb - ab * ab;
-        inside((bb * da - ab * db) / det, (aa * db - ab * da) / det)
-    };
-    match e.shape() {
-        EmitterShape::Quad { corner, e1, e2 } => plane(*corner, *e1, *e2, &|s, t| {
-            (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t)
-        }),
-        EmitterShape::Disk { center, a1, a2 } => plane(*center, *a1, *a2, &|x, y| x * x + y * y <= 1.0),
-        EmitterShape::Triangle { v } => plane(v[0], v[1] - v[0], v[2] - v[0], &|s, t| {
-            s >= 0.0 && t >= 0.0 && s + t <= 1.0
-        }),
-        EmitterShape::Sphere { center, radius } => {
-            let oc = p - *center;
-            let b = oc.dot(w);
-            b * b - (oc.length_squared() - radius * radius) >= 0.0 && b < 0.0
-        }
-    }
-}
-
 fn emitter(shape: EmitterShape) -> Emitter {
     Emitter::new(shape).expect("the test's emitters have area")
 }
@@ -95,13 +60,7 @@ fn fit(
         seed,
         200_000,
         |u| sample(u).map(|s| (s.point - p).normalize()),
-        |w| {
-            if !meets(e, p, w) {
-                return 0.0;
-            }
-            let (q, n) = hit_point(e, p, w);
-            pdf(q, n)
-        },
+        |w| e.intersect(p, w).map_or(0.0, |(q, n)| pdf(q, n)),
     )
 }
 
@@ -131,23 +90,6 @@ fn every_strategy_fits_its_density() {
         );
         r.assert_fits(&format!("solid angle, emitter {k}"), TESTS);
         assert!((r.integral - 1.0).abs() < 2e-3, "emitter {k}: {}", r.describe());
-    }
-}
-
-/// The nearest point of the emitter along `p + t w` (which meets it) and its normal.
-fn hit_point(e: &Emitter, p: Vec3, w: Vec3) -> (Vec3, Vec3) {
-    let on_plane = |o: Vec3, n: Vec3| (p + (o - p).dot(n) / w.dot(n) * w, n.normalize());
-    match e.shape() {
-        EmitterShape::Quad { corner, e1, e2 } => on_plane(*corner, e1.cross(*e2)),
-        EmitterShape::Disk { center, a1, a2 } => on_plane(*center, a1.cross(*a2)),
-        EmitterShape::Triangle { v } => on_plane(v[0], (v[1] - v[0]).cross(v[2] - v[0])),
-        EmitterShape::Sphere { center, radius } => {
-            let oc = p - *center;
-            let b = oc.dot(w);
-            let t = -b - (b * b - (oc.length_squared() - radius * radius)).max(0.0).sqrt();
-            let q = p + t * w;
-            (q, (q - *center) / *radius)
-        }
     }
 }
 
