@@ -14,7 +14,9 @@ use penumbra::math::{warp, Pcg32, Rgb};
 use penumbra::renderer::bsdfs::{MetalFresnel, TransportMode};
 use penumbra::renderer::lights::emitter::{area_to_solid_angle, triangle_point, Emitter, EmitterShape};
 use penumbra::renderer::lights::{AreaLight, AreaSampling, Directional, Environment, Point, Spot};
-use penumbra::renderer::materials::{metal_ior, Coated, Phong, Roughness};
+use penumbra::renderer::materials::{
+    metal_ior, Coated, ConductorMaterial, DielectricMaterial, DiffuseMaterial, Phong, Roughness,
+};
 use penumbra::renderer::texture::TextureImage;
 use penumbra::renderer::{Light, Material, Texture};
 use std::hint::black_box;
@@ -41,7 +43,7 @@ fn materials() -> Vec<(&'static str, Material)> {
     let (eta, k) = metal_ior("Au").expect("gold");
     let rough = |a: f32| Some(Roughness::isotropic(a));
     vec![
-        ("diffuse", Material::Diffuse { reflectance: grey(0.6) }),
+        ("diffuse", Material::Diffuse(DiffuseMaterial { reflectance: grey(0.6) })),
         (
             "phong",
             Material::Phong(Phong {
@@ -53,20 +55,20 @@ fn materials() -> Vec<(&'static str, Material)> {
         ),
         (
             "rough conductor",
-            Material::Conductor {
+            Material::Conductor(ConductorMaterial {
                 fresnel: MetalFresnel::Complex { eta, k },
                 specular: grey(1.0),
                 roughness: rough(0.2),
-            },
+            }),
         ),
         (
             "rough dielectric",
-            Material::Dielectric {
+            Material::Dielectric(DielectricMaterial {
                 eta: 1.5,
                 reflectance: grey(1.0),
                 transmittance: grey(1.0),
                 roughness: rough(0.2),
-            },
+            }),
         ),
         (
             "rough plastic",
@@ -75,12 +77,12 @@ fn materials() -> Vec<(&'static str, Material)> {
         (
             "blend",
             Material::Blend {
-                a: Box::new(Material::Diffuse { reflectance: grey(0.8) }),
-                b: Box::new(Material::Conductor {
+                a: Box::new(Material::Diffuse(DiffuseMaterial { reflectance: grey(0.8) })),
+                b: Box::new(Material::Conductor(ConductorMaterial {
                     fresnel: MetalFresnel::Complex { eta, k },
                     specular: grey(1.0),
                     roughness: rough(0.3),
-                }),
+                })),
                 weight: grey(0.5),
             },
         ),

@@ -7,6 +7,7 @@
 use penumbra::metrics::compare;
 use penumbra::scene::image_io::read_image;
 use penumbra::scene::{build_scene, read_scene, SourceFile};
+use penumbra_render::materials::PlasticMaterial;
 use std::path::PathBuf;
 
 fn root() -> PathBuf {
@@ -179,10 +180,10 @@ fn every_shared_gltf_scene_loads_and_builds() {
             let Material::TwoSided(m) = &desc.materials[0].material else {
                 panic!("two-sided")
             };
-            let Material::Plastic {
+            let Material::Plastic(PlasticMaterial {
                 diffuse: Texture::Image { image, .. },
                 ..
-            } = &**m
+            }) = &**m
             else {
                 panic!("{m:?}")
             };

@@ -5,6 +5,7 @@
 use super::microfacet::Ggx;
 use super::*;
 use crate::materials::{metal_ior, Coated, CoatedBase, Roughness};
+use crate::materials::{ConductorMaterial, DielectricMaterial, DiffuseMaterial};
 use crate::{Material, Texture};
 use penumbra_testkit::{assert_within_3se, chi2_directions, MeanEstimate, Uniforms};
 
@@ -25,29 +26,33 @@ pub(super) fn view(theta_degrees: f32) -> Vec3 {
 /// the normal; beyond 90 is from below).
 pub(super) fn cases() -> Vec<(String, Material, Vec<f32>)> {
     let (au_eta, au_k) = metal_ior("Au").unwrap();
-    let conductor = |ax: f32, ay: f32| Material::Conductor {
-        fresnel: MetalFresnel::Complex { eta: au_eta, k: au_k },
-        specular: grey(1.0),
-        roughness: Some(Roughness {
-            alpha_u: grey(ax),
-            alpha_v: grey(ay),
-        }),
+    let conductor = |ax: f32, ay: f32| {
+        Material::Conductor(ConductorMaterial {
+            fresnel: MetalFresnel::Complex { eta: au_eta, k: au_k },
+            specular: grey(1.0),
+            roughness: Some(Roughness {
+                alpha_u: grey(ax),
+                alpha_v: grey(ay),
+            }),
+        })
     };
-    let dielectric = |eta: f32, alpha: f32| Material::Dielectric {
-        eta,
-        reflectance: grey(1.0),
-        transmittance: grey(1.0),
-        roughness: rough(alpha),
+    let dielectric = |eta: f32, alpha: f32| {
+        Material::Dielectric(DielectricMaterial {
+            eta,
+            reflectance: grey(1.0),
+            transmittance: grey(1.0),
+            roughness: rough(alpha),
+        })
     };
     vec![
         (
             "diffuse".into(),
-            Material::Diffuse { reflectance: grey(0.7) },
+            Material::Diffuse(DiffuseMaterial { reflectance: grey(0.7) }),
             vec![0.0, 60.0],
         ),
         (
             "two-sided diffuse".into(),
-            Material::TwoSided(Box::new(Material::Diffuse { reflectance: grey(0.7) })),
+            Material::TwoSided(Box::new(Material::Diffuse(DiffuseMaterial { reflectance: grey(0.7) }))),
             vec![30.0, 150.0],
         ),
         (
@@ -121,7 +126,7 @@ pub(super) fn cases() -> Vec<(String, Material, Vec<f32>)> {
         (
             "blend diffuse / rough gold".into(),
             Material::Blend {
-                a: Box::new(Material::Diffuse { reflectance: grey(0.8) }),
+                a: Box::new(Material::Diffuse(DiffuseMaterial { reflectance: grey(0.8) })),
                 b: Box::new(conductor(0.3, 0.3)),
                 weight: grey(0.4),
             },
@@ -225,17 +230,17 @@ fn lossless_materials_pass_the_furnace() {
     let lossless = [
         (
             "white diffuse",
-            Material::Diffuse { reflectance: grey(1.0) },
+            Material::Diffuse(DiffuseMaterial { reflectance: grey(1.0) }),
             vec![0.0, 45.0, 85.0],
         ),
         (
             "smooth glass",
-            Material::Dielectric {
+            Material::Dielectric(DielectricMaterial {
                 eta: 1.5,
                 reflectance: grey(1.0),
                 transmittance: grey(1.0),
                 roughness: None,
-            },
+            }),
             vec![0.0, 60.0, 89.0, 120.0, 175.0],
         ),
         (
@@ -246,7 +251,7 @@ fn lossless_materials_pass_the_furnace() {
         (
             "blend",
             Material::Blend {
-                a: Box::new(Material::Diffuse { reflectance: grey(1.0) }),
+                a: Box::new(Material::Diffuse(DiffuseMaterial { reflectance: grey(1.0) })),
                 b: Box::new(Material::plastic(grey(1.0), grey(1.0), 1.33, None)),
                 weight: grey(0.5),
             },
@@ -276,19 +281,23 @@ fn rough_surfaces_lose_energy_but_never_gain_it() {
     // A conductor reflecting everything (k huge: F = 1) and rough glass (importance mode):
     // single-scattering microfacets lose the light that would bounce between facets, more
     // with roughness and at grazing views, never gain; smooth-ish ones lose almost none.
-    let mirror_metal = |alpha: f32| Material::Conductor {
-        fresnel: MetalFresnel::Complex {
-            eta: Rgb::splat(1.0),
-            k: Rgb::splat(1e4),
-        },
-        specular: grey(1.0),
-        roughness: rough(alpha),
+    let mirror_metal = |alpha: f32| {
+        Material::Conductor(ConductorMaterial {
+            fresnel: MetalFresnel::Complex {
+                eta: Rgb::splat(1.0),
+                k: Rgb::splat(1e4),
+            },
+            specular: grey(1.0),
+            roughness: rough(alpha),
+        })
     };
-    let glass = |alpha: f32| Material::Dielectric {
-        eta: 1.5,
-        reflectance: grey(1.0),
-        transmittance: grey(1.0),
-        roughness: rough(alpha),
+    let glass = |alpha: f32| {
+        Material::Dielectric(DielectricMaterial {
+            eta: 1.5,
+            reflectance: grey(1.0),
+            transmittance: grey(1.0),
+            roughness: rough(alpha),
+        })
     };
     let plastic = |alpha: f32| Material::plastic(grey(1.0), grey(1.0), 1.5, rough(alpha));
     let mut seed = 10;
@@ -324,11 +333,11 @@ fn rough_surfaces_lose_energy_but_never_gain_it() {
 fn smooth_conductor_reflects_the_fresnel_colour_of_gold() {
     // At normal incidence F = ((η-1)² + k²)/((η+1)² + k²) per channel.
     let (eta, k) = metal_ior("Au").unwrap();
-    let gold = Material::Conductor {
+    let gold = Material::Conductor(ConductorMaterial {
         fresnel: MetalFresnel::Complex { eta, k },
         specular: grey(1.0),
         roughness: None,
-    };
+    });
     let s = gold
         .bsdf(Vec2::ZERO)
         .sample(Vec3::Z, 0.5, Vec2::splat(0.5), MODE)
@@ -346,7 +355,7 @@ fn smooth_conductor_reflects_the_fresnel_colour_of_gold() {
 
 #[test]
 fn one_sided_materials_are_black_from_behind() {
-    let diffuse = Material::Diffuse { reflectance: grey(0.5) };
+    let diffuse = Material::Diffuse(DiffuseMaterial { reflectance: grey(0.5) });
     let below = Vec3::new(0.3, 0.0, -0.9).normalize();
     let b = diffuse.bsdf(Vec2::ZERO);
     assert!(b.sample(below, 0.5, Vec2::splat(0.3), MODE).is_none());
@@ -427,11 +436,13 @@ fn blend_tree(leaves: &[Material]) -> Material {
 
 fn glasses(n: usize) -> Vec<Material> {
     (0..n)
-        .map(|k| Material::Dielectric {
-            eta: 1.3 + 0.1 * k as f32,
-            reflectance: grey(1.0),
-            transmittance: grey(1.0),
-            roughness: None,
+        .map(|k| {
+            Material::Dielectric(DielectricMaterial {
+                eta: 1.3 + 0.1 * k as f32,
+                reflectance: grey(1.0),
+                transmittance: grey(1.0),
+                roughness: None,
+            })
         })
         .collect()
 }

@@ -8,6 +8,7 @@ use super::nee::{self, LightStrategy, Shading};
 use super::path::{PathState, PathTracer, Shadows};
 use super::{RayCounts, SHADOW_T_MAX};
 use crate::lights::{AreaLight, Light, LightSelection};
+use crate::materials::DiffuseMaterial;
 use crate::{Interaction, Material, Scene, Texture};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, F8, V3};
@@ -101,9 +102,9 @@ fn lane_interaction<'s>(d: &DiffuseLane, material: &'s Material, j: usize, r: &L
 /// weight), one- or two-sided, no normal map.
 fn plain_diffuse(material: &Material) -> Option<(Rgb, bool)> {
     let constant = |m: &Material| match m {
-        Material::Diffuse {
+        Material::Diffuse(DiffuseMaterial {
             reflectance: Texture::Constant(c),
-        } if !c.is_black() && c.is_finite() => Some(*c),
+        }) if !c.is_black() && c.is_finite() => Some(*c),
         _ => None,
     };
     match material {

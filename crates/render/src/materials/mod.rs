@@ -1,19 +1,28 @@
 //! Materials: the scene's description of how a surface scatters light, with textures;
 //! [`Material::bsdf`] turns one into the [`Bsdf`] at a surface point.
 //!
-//! Adding a material: a variant here and its arm in [`Material::bsdf`], with the BSDF in
-//! its own file under `bsdfs/`.
+//! Adding a material: its file here with a parameters struct (each field with its default
+//! in `Default`, so that a new parameter breaks no constructor) and its `bsdf`, a variant in
+//! [`Material`] and its arm in [`Material::bsdf`]; the BSDF in its own file under `bsdfs/`.
 
 mod coated;
+mod conductor;
+mod dielectric;
+mod diffuse;
 mod metals;
 mod phong;
+mod plastic;
 
 pub use coated::{Coated, CoatedBase};
+pub use conductor::ConductorMaterial;
+pub use dielectric::DielectricMaterial;
+pub use diffuse::DiffuseMaterial;
 pub use metals::{metal_ior, METALS};
 pub use phong::Phong;
+pub use plastic::PlasticMaterial;
 
 use crate::bsdfs::microfacet::Ggx;
-use crate::bsdfs::{Blend, Bsdf, BsdfKind, Coating, Conductor, Dielectric, Diffuse, MetalFresnel, Plastic};
+use crate::bsdfs::{Blend, Bsdf, BsdfKind};
 use crate::Texture;
 use glam::{Vec2, Vec3};
 use penumbra_core::{Frame, Rgb};
@@ -47,31 +56,13 @@ pub enum Material {
     /// The classic ray-tracing material: diffuse, Phong glossy, mirror, glass.
     Phong(Phong),
     /// Lambertian reflection.
-    Diffuse { reflectance: Texture },
-    /// A metal, smooth or rough (GGX): of complex index `eta + i k`, or of reflectance
-    /// `specular` at normal incidence (Schlick).
-    Conductor {
-        fresnel: MetalFresnel,
-        specular: Texture,
-        roughness: Option<Roughness>,
-    },
+    Diffuse(DiffuseMaterial),
+    /// A metal, smooth or rough (GGX).
+    Conductor(ConductorMaterial),
     /// Glass and other dielectric interfaces, smooth or rough.
-    Dielectric {
-        /// Interior over exterior index of refraction.
-        eta: f32,
-        reflectance: Texture,
-        transmittance: Texture,
-        roughness: Option<Roughness>,
-    },
+    Dielectric(DielectricMaterial),
     /// A diffuse base under a dielectric coating, smooth or rough (isotropic).
-    Plastic {
-        diffuse: Texture,
-        specular: Texture,
-        eta: f32,
-        /// The coating's internal reflectance and transmittance, from [`Material::plastic`].
-        coating: Coating,
-        roughness: Option<Roughness>,
-    },
+    Plastic(PlasticMaterial),
     /// A dielectric coating over a diffuse or metal base (pbrt-v4's coated materials).
     Coated(Coated),
     /// (1 - weight) a + weight b.
@@ -103,24 +94,9 @@ impl Material {
         }
     }
 
-    /// A plastic material, its coating's transmittance and internal reflectance worked
-    /// out: the rough ones for a constant roughness, else the smooth ones (a textured
-    /// roughness has no one table).
+    /// A plastic material (see [`PlasticMaterial::new`]).
     pub fn plastic(diffuse: Texture, specular: Texture, eta: f32, roughness: Option<Roughness>) -> Self {
-        let constant = roughness
-            .as_ref()
-            .filter(|r| matches!(r.alpha_u, Texture::Constant(_)) && matches!(r.alpha_v, Texture::Constant(_)));
-        let coating = match constant.and_then(|r| r.at(Vec2::ZERO)) {
-            Some(g) => Coating::rough(eta, Ggx { ax: g.ax, ay: g.ax }),
-            None => Coating::smooth(eta),
-        };
-        Material::Plastic {
-            diffuse,
-            specular,
-            eta,
-            coating,
-            roughness,
-        }
+        Material::Plastic(PlasticMaterial::new(diffuse, specular, eta, roughness))
     }
 
     /// The shading frame at `s`: the shading normal with the tangent ∂p/∂u, or the normal
@@ -141,7 +117,6 @@ impl Material {
 
     /// The BSDF at texture coordinates `uv`.
     pub fn bsdf(&self, uv: Vec2) -> Bsdf<'_> {
-        let rough = |r: &Option<Roughness>| r.as_ref().and_then(|r| r.at(uv));
         let kind = match self {
             Material::Phong(m) => {
                 return Bsdf {
@@ -149,47 +124,10 @@ impl Material {
                     two_sided: false,
                 }
             }
-            Material::Diffuse { reflectance } => BsdfKind::Diffuse(Diffuse {
-                reflectance: reflectance.eval(uv),
-            }),
-            Material::Conductor {
-                fresnel,
-                specular,
-                roughness,
-            } => BsdfKind::Conductor(Conductor {
-                fresnel: *fresnel,
-                specular: specular.eval(uv),
-                alpha: rough(roughness),
-            }),
-            Material::Dielectric {
-                eta,
-                reflectance,
-                transmittance,
-                roughness,
-            } => BsdfKind::Dielectric(Dielectric {
-                eta: *eta,
-                reflectance: reflectance.eval(uv),
-                transmittance: transmittance.eval(uv),
-                alpha: rough(roughness),
-            }),
-            Material::Plastic {
-                diffuse,
-                specular,
-                eta,
-                coating,
-                roughness,
-            } => {
-                let (diffuse, specular) = (diffuse.eval(uv), specular.eval(uv));
-                let (d, s) = (diffuse.mean(), specular.mean());
-                BsdfKind::Plastic(Plastic {
-                    diffuse,
-                    specular,
-                    eta: *eta,
-                    coating,
-                    specular_weight: if d + s > 0.0 { s / (d + s) } else { 0.0 },
-                    alpha: rough(roughness).map(|g| Ggx { ax: g.ax, ay: g.ax }),
-                })
-            }
+            Material::Diffuse(m) => m.bsdf(uv),
+            Material::Conductor(m) => m.bsdf(uv),
+            Material::Dielectric(m) => m.bsdf(uv),
+            Material::Plastic(m) => m.bsdf(uv),
             Material::Blend { a, b, weight } => BsdfKind::Blend(Blend {
                 a,
                 b,
@@ -227,9 +165,9 @@ mod tests {
 
     #[test]
     fn the_shading_frame_follows_the_tangent_and_the_normal_map() {
-        let plain = Material::Diffuse {
+        let plain = Material::Diffuse(DiffuseMaterial {
             reflectance: Texture::Constant(Rgb::splat(0.5)),
-        };
+        });
         let f = plain.shading_frame(&surface());
         assert!((f.s - Vec3::X).length() < 1e-6 && f.n == Vec3::Z && (f.t - Vec3::Y).length() < 1e-6);
         // A map encoding the normal tilted 30 degrees towards the tangent.

@@ -18,6 +18,7 @@ use penumbra_core::{Aabb, Rgb, Transform};
 use penumbra_geometry::TriangleMesh;
 use penumbra_render::cameras::FovAxis;
 use penumbra_render::integrators::IntegratorKind;
+use penumbra_render::materials::DiffuseMaterial;
 use penumbra_render::{Material, Texture};
 use std::path::Path;
 use std::sync::Arc;
@@ -72,9 +73,9 @@ pub fn read(path: &Path) -> Result<SceneDesc, SceneError> {
     let mut desc = SceneDesc::empty();
     desc.render = default_render();
     desc.camera = frame(bounds);
-    let grey = Material::TwoSided(Box::new(Material::Diffuse {
+    let grey = Material::TwoSided(Box::new(Material::Diffuse(DiffuseMaterial {
         reflectance: Texture::Constant(Rgb::splat(0.7)),
-    }));
+    })));
     for (mesh, m) in parts {
         let (material, emission) = m.unwrap_or((grey.clone(), None));
         desc.materials.push(MaterialDesc {
@@ -167,6 +168,7 @@ pub(crate) fn frame(bounds: Aabb) -> CameraDesc {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use penumbra_render::materials::{DielectricMaterial, PlasticMaterial};
     use penumbra_render::Material;
 
     /// The camera frames the mesh: every corner of its bounds projects inside 90% of the
@@ -240,16 +242,16 @@ mod tests {
             m => m.clone(),
         };
         assert!(
-            matches!(inner(0), Material::Diffuse { reflectance: Texture::Constant(c) } if c == Rgb::new(0.2, 0.4, 0.6))
+            matches!(inner(0), Material::Diffuse(DiffuseMaterial { reflectance: Texture::Constant(c) }) if c == Rgb::new(0.2, 0.4, 0.6))
         );
         match inner(1) {
-            Material::Plastic { roughness: Some(r), .. } => {
+            Material::Plastic(PlasticMaterial { roughness: Some(r), .. }) => {
                 // Ns 98: alpha = sqrt(2 / 100).
                 assert!(matches!(r.alpha_u, Texture::Constant(a) if (a.r - 0.02f32.sqrt()).abs() < 1e-6));
             }
             other => panic!("glossy: {other:?}"),
         }
-        assert!(matches!(inner(2), Material::Dielectric { eta, .. } if eta == 1.33));
+        assert!(matches!(inner(2), Material::Dielectric(DielectricMaterial { eta, .. }) if eta == 1.33));
         assert_eq!(
             desc.shapes[3].emission.as_ref().map(|e| e.radiance),
             Some(Rgb::new(5.0, 4.0, 3.0))

@@ -15,6 +15,7 @@ use crate::desc::Emission;
 use penumbra_core::Rgb;
 use penumbra_render::bsdfs::MetalFresnel;
 use penumbra_render::materials::Roughness;
+use penumbra_render::materials::{ConductorMaterial, DielectricMaterial, DiffuseMaterial};
 use penumbra_render::{Material, Texture};
 use std::path::Path;
 
@@ -40,21 +41,21 @@ pub fn material(m: &tobj::Material, dir: &Path, warn: &mut dyn FnMut(String)) ->
     let dissolve = m.dissolve.unwrap_or(1.0);
     let material = if dissolve < 1.0 || matches!(illum, 4 | 6 | 7 | 9) {
         let tint = m.unknown_param.get("Tf").and_then(|t| parse3(t)).unwrap_or(Rgb::WHITE);
-        Material::Dielectric {
+        Material::Dielectric(DielectricMaterial {
             eta: m.optical_density.filter(|&n| n > 0.0).unwrap_or(1.5),
             reflectance: Texture::Constant(Rgb::WHITE),
             transmittance: Texture::Constant(tint),
             roughness: None,
-        }
+        })
     } else if matches!(illum, 3 | 5 | 8) {
-        Material::TwoSided(Box::new(Material::Conductor {
+        Material::TwoSided(Box::new(Material::Conductor(ConductorMaterial {
             fresnel: MetalFresnel::Complex {
                 eta: Rgb::BLACK,
                 k: Rgb::WHITE,
             },
             specular: Texture::Constant(if ks.max_component() > 0.0 { ks } else { Rgb::WHITE }),
             roughness: None,
-        }))
+        })))
     } else if ks.max_component() > 0.0 && illum >= 2 {
         let ns = m.shininess.unwrap_or(10.0).max(0.0);
         let alpha = (2.0 / (ns + 2.0)).sqrt();
@@ -65,7 +66,7 @@ pub fn material(m: &tobj::Material, dir: &Path, warn: &mut dyn FnMut(String)) ->
             Some(Roughness::isotropic(alpha)),
         )))
     } else {
-        Material::TwoSided(Box::new(Material::Diffuse { reflectance: diffuse }))
+        Material::TwoSided(Box::new(Material::Diffuse(DiffuseMaterial { reflectance: diffuse })))
     };
     let ke = m.unknown_param.get("Ke").and_then(|t| parse3(t)).or(rgb(m.emissive));
     let emission = ke.filter(|e| e.max_component() > 0.0).map(|radiance| Emission {

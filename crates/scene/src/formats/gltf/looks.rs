@@ -22,6 +22,7 @@ use gltf::texture::WrappingMode;
 use penumbra_core::Rgb;
 use penumbra_render::bsdfs::MetalFresnel;
 use penumbra_render::materials::Roughness;
+use penumbra_render::materials::{ConductorMaterial, DielectricMaterial};
 use penumbra_render::texture::{TextureImage, Wrap};
 use penumbra_render::{Material, Texture};
 use std::sync::Arc;
@@ -76,21 +77,21 @@ impl Reader {
                     Some(info) => self.texture(&info, &path, false, |c| Rgb::splat(factor * c.r))?,
                     None => Texture::Constant(Rgb::splat(factor)),
                 };
-                let glass = Material::Dielectric {
+                let glass = Material::Dielectric(DielectricMaterial {
                     eta,
                     reflectance: Texture::Constant(Rgb::WHITE),
                     transmittance: base.clone(),
                     roughness: roughness.clone(),
-                };
+                });
                 blend(plastic, glass, weight)
             }
             _ => plastic,
         };
-        let conductor = Material::Conductor {
+        let conductor = Material::Conductor(ConductorMaterial {
             fresnel: MetalFresnel::Schlick,
             specular: base,
             roughness,
-        };
+        });
         let mut material = Material::TwoSided(Box::new(blend(dielectric, conductor, metallic)));
         if let Some(normal) = m.normal_texture() {
             let scale = normal.scale();

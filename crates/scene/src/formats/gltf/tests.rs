@@ -2,6 +2,7 @@ use super::*;
 use crate::desc::{CameraKind, LightDesc};
 use crate::formats::test_files::{error_at, folder};
 use base64::Engine;
+use penumbra_render::materials::{ConductorMaterial, PlasticMaterial};
 use penumbra_render::{Material, Texture};
 
 /// A quad from (-1, -1) to (1, 1) in the z = 0 plane facing +z, texture coordinates with
@@ -142,12 +143,12 @@ fn nodes_cameras_lights_and_materials_map_onto_the_scene() {
     };
     assert_eq!(*weight, Texture::Constant(penumbra_core::Rgb::splat(0.5)));
     assert!(
-        matches!(&**a, Material::Plastic { eta, roughness: Some(r), diffuse: Texture::Constant(d), .. }
+        matches!(&**a, Material::Plastic(PlasticMaterial { eta, roughness: Some(r), diffuse: Texture::Constant(d), .. })
             if *eta == 1.5 && r.alpha_u == Texture::Constant(penumbra_core::Rgb::splat(0.09f32)) && *d == penumbra_core::Rgb::new(0.2, 0.4, 0.6)),
         "{a:?}"
     );
     assert!(
-        matches!(&**b, Material::Conductor { fresnel: penumbra_render::bsdfs::MetalFresnel::Schlick, specular: Texture::Constant(s), .. }
+        matches!(&**b, Material::Conductor(ConductorMaterial { fresnel: penumbra_render::bsdfs::MetalFresnel::Schlick, specular: Texture::Constant(s), .. })
             if *s == penumbra_core::Rgb::new(0.2, 0.4, 0.6)),
         "{b:?}"
     );

@@ -5,6 +5,7 @@ use super::{warn_unused, At, Reader, Result};
 use penumbra_core::Rgb;
 use penumbra_render::bsdfs::MetalFresnel;
 use penumbra_render::materials::{metal_ior, Roughness};
+use penumbra_render::materials::{ConductorMaterial, DielectricMaterial, DiffuseMaterial};
 use penumbra_render::texture::Wrap;
 use penumbra_render::{Material, Texture};
 
@@ -69,9 +70,9 @@ pub fn bsdf(r: &mut Reader, at: At) -> Result<Material> {
     let kind = r.require(at, "type")?;
     let what = format!("bsdf {kind}");
     let material = match kind.as_str() {
-        "diffuse" => Material::Diffuse {
+        "diffuse" => Material::Diffuse(DiffuseMaterial {
             reflectance: p.texture(r, "reflectance", 0.5, false)?,
-        },
+        }),
         "twosided" => {
             let inner = nested_bsdfs(r, &p, 1)?.remove(0);
             Material::TwoSided(Box::new(inner))
@@ -94,13 +95,13 @@ pub fn bsdf(r: &mut Reader, at: At) -> Result<Material> {
                     },
                 },
             };
-            Material::Conductor {
+            Material::Conductor(ConductorMaterial {
                 fresnel: MetalFresnel::Complex { eta, k },
                 specular: p.texture(r, "specular_reflectance", 1.0, false)?,
                 roughness: (kind == "roughconductor")
                     .then(|| roughness(r, &p, &what))
                     .transpose()?,
-            }
+            })
         }
         "dielectric" | "roughdielectric" | "thindielectric" => {
             if kind == "thindielectric" {
@@ -109,14 +110,14 @@ pub fn bsdf(r: &mut Reader, at: At) -> Result<Material> {
                     format!("{}: `thindielectric` is rendered as a smooth `dielectric`", at.place()),
                 );
             }
-            Material::Dielectric {
+            Material::Dielectric(DielectricMaterial {
                 eta: ior(r, &p, "int_ior", 1.5046)? / ior(r, &p, "ext_ior", 1.000277)?,
                 reflectance: p.texture(r, "specular_reflectance", 1.0, false)?,
                 transmittance: p.texture(r, "specular_transmittance", 1.0, false)?,
                 roughness: (kind == "roughdielectric")
                     .then(|| roughness(r, &p, &what))
                     .transpose()?,
-            }
+            })
         }
         "plastic" | "roughplastic" => {
             p.bool_or(r, "nonlinear", false)?;
@@ -155,9 +156,9 @@ pub fn bsdf(r: &mut Reader, at: At) -> Result<Material> {
                     at.place()
                 ),
             );
-            return Ok(Material::Diffuse {
+            return Ok(Material::Diffuse(DiffuseMaterial {
                 reflectance: Texture::Constant(Rgb::splat(0.5)),
-            });
+            }));
         }
     };
     warn_unused(r, &p, &what);

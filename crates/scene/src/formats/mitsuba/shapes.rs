@@ -11,6 +11,7 @@ use crate::formats::{default_material, drop_degenerate, flipped, obj, ply};
 use glam::{Vec2, Vec3};
 use penumbra_core::Rgb;
 use penumbra_geometry::TriangleMesh;
+use penumbra_render::materials::DiffuseMaterial;
 use penumbra_render::{Material, Texture};
 use std::f32::consts::TAU;
 use std::sync::Arc;
@@ -135,9 +136,9 @@ fn shape_material(r: &mut Reader, p: &super::props::Props, refs: &mut Vec<(Strin
         return Ok(m);
     }
     Ok(default_material(&mut r.desc, &mut r.default_material, || {
-        Material::Diffuse {
+        Material::Diffuse(DiffuseMaterial {
             reflectance: Texture::Constant(Rgb::splat(0.5)),
-        }
+        })
     }))
 }
 

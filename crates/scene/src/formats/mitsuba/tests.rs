@@ -5,6 +5,7 @@ use super::read;
 use crate::desc::ShapeKind;
 use crate::formats::test_files::{error_at, folder};
 use glam::Vec3;
+use penumbra_render::materials::DiffuseMaterial;
 use penumbra_render::{Material, Texture};
 
 const MAIN: &str = r#"<scene version="3.0.0">
@@ -69,7 +70,9 @@ fn parameters_includes_references_and_transforms() {
     let Material::TwoSided(inner) = &desc.materials[rect.material.unwrap()].material else {
         panic!("twosided expected");
     };
-    assert!(matches!(**inner, Material::Diffuse { reflectance: Texture::Constant(c) } if c.g == 0.1f32));
+    assert!(
+        matches!(**inner, Material::Diffuse(DiffuseMaterial { reflectance: Texture::Constant(c) }) if c.g == 0.1f32)
+    );
     // A reference to an area emitter defined after the shape.
     let sphere = &desc.shapes[1];
     assert!(matches!(sphere.kind, ShapeKind::Sphere { radius, .. } if radius == 0.5));

@@ -27,6 +27,7 @@ use crate::params::{Result, Table, Value};
 use penumbra_core::Rgb;
 use penumbra_render::bsdfs::MetalFresnel;
 use penumbra_render::materials::{metal_ior, Coated, CoatedBase, Phong, Roughness, METALS};
+use penumbra_render::materials::{ConductorMaterial, DielectricMaterial, DiffuseMaterial};
 use penumbra_render::{Material, Texture};
 
 const TYPES: [&str; 7] = [
@@ -61,9 +62,9 @@ pub fn read_all(tables: &[Table]) -> Result<Vec<MaterialDesc>> {
             "coated" => read_coated(t)?,
             other => {
                 let m = match other {
-                    "diffuse" => Material::Diffuse {
+                    "diffuse" => Material::Diffuse(DiffuseMaterial {
                         reflectance: texture_or(t, "reflectance", 0.5)?,
-                    },
+                    }),
                     "conductor" => read_conductor(t)?,
                     "plastic" => {
                         let eta = t.positive_or("ior", 1.5)? / t.positive_or("ior_outside", 1.0)?;
@@ -123,11 +124,11 @@ fn read_phong(t: &Table) -> Result<Phong> {
 
 fn read_conductor(t: &Table) -> Result<Material> {
     let (eta, k) = metal_index(t)?;
-    Ok(Material::Conductor {
+    Ok(Material::Conductor(ConductorMaterial {
         fresnel: MetalFresnel::Complex { eta, k },
         specular: texture_or(t, "specular", 1.0)?,
         roughness: roughness(t, true)?,
-    })
+    }))
 }
 
 fn read_coated(t: &Table) -> Result<Material> {
@@ -190,12 +191,12 @@ fn metal_index(t: &Table) -> Result<(Rgb, Rgb)> {
 
 fn read_dielectric(t: &Table) -> Result<Material> {
     let eta = t.positive_or("ior", 1.5)? / t.positive_or("ior_outside", 1.0)?;
-    Ok(Material::Dielectric {
+    Ok(Material::Dielectric(DielectricMaterial {
         eta,
         reflectance: texture_or(t, "reflectance", 1.0)?,
         transmittance: texture_or(t, "transmittance", 1.0)?,
         roughness: roughness(t, true)?,
-    })
+    }))
 }
 
 fn read_blend(t: &Table, defined: &[MaterialDesc]) -> Result<Material> {

@@ -5,6 +5,7 @@ use crate::desc::{CameraKind, LightDesc, ShapeKind};
 use crate::SourceFile;
 use glam::Vec3;
 use penumbra_core::Rgb;
+use penumbra_render::materials::{ConductorMaterial, DielectricMaterial, DiffuseMaterial, PlasticMaterial};
 use penumbra_render::{Filter, Material, Texture};
 
 fn parse(text: &str) -> crate::SceneDesc {
@@ -372,10 +373,10 @@ fn every_material_type_reads() {
         .materials
         .iter()
         .map(|m| match &m.material {
-            Material::Diffuse { .. } => "diffuse",
+            Material::Diffuse(DiffuseMaterial { .. }) => "diffuse",
             Material::TwoSided(inner) => match **inner {
-                Material::Conductor { .. } => "two-sided conductor",
-                Material::Plastic { .. } => "two-sided plastic",
+                Material::Conductor(ConductorMaterial { .. }) => "two-sided conductor",
+                Material::Plastic(PlasticMaterial { .. }) => "two-sided plastic",
                 Material::Blend { .. } => "two-sided blend",
                 _ => "two-sided other",
             },
@@ -387,7 +388,7 @@ fn every_material_type_reads() {
                     "coated metal"
                 }
             },
-            Material::Dielectric { eta, .. } => {
+            Material::Dielectric(DielectricMaterial { eta, .. }) => {
                 assert!((eta - 1.33).abs() < 1e-6);
                 "dielectric"
             }
@@ -486,8 +487,8 @@ fn image_textures_decode_srgb_for_colours_only() {
     let texel = |m: &Material| -> (Rgb, f32) {
         let tex = match m {
             Material::TwoSided(inner) => match &**inner {
-                Material::Diffuse { reflectance } => reflectance.clone(),
-                Material::Conductor { roughness, .. } => roughness.as_ref().unwrap().alpha_u.clone(),
+                Material::Diffuse(DiffuseMaterial { reflectance }) => reflectance.clone(),
+                Material::Conductor(ConductorMaterial { roughness, .. }) => roughness.as_ref().unwrap().alpha_u.clone(),
                 other => panic!("{other:?}"),
             },
             other => panic!("{other:?}"),

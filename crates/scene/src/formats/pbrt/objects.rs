@@ -11,6 +11,7 @@ use penumbra_render::bsdfs::MetalFresnel;
 use penumbra_render::cameras::FovAxis;
 use penumbra_render::integrators::MAX_DEPTH_LIMIT;
 use penumbra_render::materials::{metal_ior, Coated, CoatedBase, Roughness};
+use penumbra_render::materials::{ConductorMaterial, DielectricMaterial, DiffuseMaterial};
 use penumbra_render::texture::Wrap;
 use penumbra_render::{Filter, Material, Texture};
 
@@ -299,16 +300,16 @@ fn layer(r: &Reader, p: &Params) -> Result<Coated> {
 /// The material of `Material` or `MakeNamedMaterial`; its index.
 pub fn material(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Result<usize> {
     let m = match kind {
-        "diffuse" => Material::Diffuse {
+        "diffuse" => Material::Diffuse(DiffuseMaterial {
             reflectance: texture_param(r, p, "reflectance", 0.5)?,
-        },
+        }),
         "conductor" => {
             let (fresnel, specular) = metal(p, "", "reflectance")?;
-            Material::Conductor {
+            Material::Conductor(ConductorMaterial {
                 fresnel,
                 specular: Texture::Constant(specular),
                 roughness: roughness(p, "")?,
-            }
+            })
         }
         "coatedconductor" => {
             // pbrt-v4 names the metal's colour `reflectance`; some exporters write
@@ -337,12 +338,12 @@ pub fn material(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Resul
                     format!("{here}: `thindielectric` is rendered as a `dielectric`"),
                 );
             }
-            Material::Dielectric {
+            Material::Dielectric(DielectricMaterial {
                 eta: eta(p, "eta", 1.5)?,
                 reflectance: Texture::Constant(Rgb::WHITE),
                 transmittance: Texture::Constant(Rgb::WHITE),
                 roughness: roughness(p, "")?,
-            }
+            })
         }
         "coateddiffuse" => Material::Coated(Coated {
             base: CoatedBase::Diffuse {
@@ -378,14 +379,14 @@ pub fn material(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Resul
                 &format!("material {other}"),
                 format!("{here}: material `{other}` is not supported: rendered as a grey diffuse"),
             );
-            Material::Diffuse {
+            Material::Diffuse(DiffuseMaterial {
                 reflectance: Texture::Constant(Rgb::splat(0.5)),
-            }
+            })
         }
     };
     // pbrt's BSDFs reflect on both sides of a surface (Mitsuba's and ours on the front).
     let m = match m {
-        Material::Dielectric { .. } | Material::Blend { .. } | Material::Coated(_) => m,
+        Material::Dielectric(DielectricMaterial { .. }) | Material::Blend { .. } | Material::Coated(_) => m,
         m => Material::TwoSided(Box::new(m)),
     };
     p.string("type")?;

@@ -11,6 +11,7 @@ use crate::{Location, SceneError, SourceFile};
 use glam::{Vec2, Vec3};
 use penumbra_core::Rgb;
 use penumbra_geometry::TriangleMesh;
+use penumbra_render::materials::DiffuseMaterial;
 use penumbra_render::{Material, Texture};
 use std::sync::Arc;
 
@@ -90,9 +91,9 @@ pub fn shape(r: &mut Reader, kind: &str, p: &Params, file: &SourceFile, here: Lo
     let material = match r.state.material {
         Some(m) => m,
         None => default_material(&mut r.desc, &mut r.default_material, || {
-            Material::TwoSided(Box::new(Material::Diffuse {
+            Material::TwoSided(Box::new(Material::Diffuse(DiffuseMaterial {
                 reflectance: Texture::Constant(Rgb::splat(0.5)),
-            }))
+            })))
         }),
     };
     Ok(Some(ShapeDesc {

@@ -6,6 +6,7 @@ use super::read;
 use crate::desc::ShapeKind;
 use crate::formats::test_files::{error_at, folder};
 use glam::Vec3;
+use penumbra_render::materials::{ConductorMaterial, DiffuseMaterial};
 use penumbra_render::Material;
 
 const SCENE: &str = r#"LookAt 0 0 5  0 0 0  0 1 0
@@ -58,7 +59,7 @@ fn transforms_attributes_camera_and_instances() {
     let Material::TwoSided(inner) = &desc.materials[tri.material.unwrap()].material else {
         panic!("pbrt's diffuse reflects on both sides");
     };
-    assert!(matches!(**inner, Material::Diffuse { .. }));
+    assert!(matches!(**inner, Material::Diffuse(DiffuseMaterial { .. })));
     // The instance is placed by the transform at ObjectInstance; attributes were restored.
     let ball = &desc.shapes[1];
     assert!(matches!(ball.kind, ShapeKind::Sphere { radius, .. } if radius == 0.5));
@@ -219,7 +220,7 @@ fn constant_spectrum_lights_have_unit_luminance() {
         panic!()
     };
     assert!(
-        matches!(**m, Material::Diffuse { reflectance: penumbra_render::Texture::Constant(c) } if c == penumbra_core::Rgb::splat(0.7))
+        matches!(**m, Material::Diffuse(DiffuseMaterial { reflectance: penumbra_render::Texture::Constant(c) }) if c == penumbra_core::Rgb::splat(0.7))
     );
 }
 
@@ -233,9 +234,9 @@ fn scale_textures_multiply() {
     let Material::TwoSided(m) = &desc.materials[0].material else {
         panic!()
     };
-    let Material::Diffuse {
+    let Material::Diffuse(DiffuseMaterial {
         reflectance: penumbra_render::Texture::Checker { even, odd, .. },
-    } = &**m
+    }) = &**m
     else {
         panic!("{m:?}")
     };
@@ -258,7 +259,7 @@ fn escapes_reflectance_conductors_and_whole_spheres() {
         panic!()
     };
     assert!(
-        matches!(&**m, Material::Conductor { fresnel: penumbra_render::bsdfs::MetalFresnel::Schlick, specular: penumbra_render::Texture::Constant(c), .. } if *c == penumbra_core::Rgb::new(0.9, 0.6, 0.3)),
+        matches!(&**m, Material::Conductor(ConductorMaterial { fresnel: penumbra_render::bsdfs::MetalFresnel::Schlick, specular: penumbra_render::Texture::Constant(c), .. }) if *c == penumbra_core::Rgb::new(0.9, 0.6, 0.3)),
         "{m:?}"
     );
 }
