@@ -81,48 +81,50 @@ impl Default for IntegratorOptions {
     }
 }
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum IntegratorKind {
-    #[default]
-    Whitted,
-    Direct,
-    Path,
-    Bdpt,
-    Mlt,
-    Sppm,
-    Photon,
-    Env,
+/// The registry of integrators: one line per kind (variant, name, and how it is made from
+/// the options `o`; the first is the default) generates [`IntegratorKind`], its [`IntegratorKind::NAMES`],
+/// [`IntegratorKind::from_name`] and [`IntegratorKind::create`]. Adding an integrator: its
+/// file, implementing [`Integrator`], and one line here.
+macro_rules! integrator_kinds {
+    ($o:ident; $default:ident = $default_name:literal => $default_make:expr, $($variant:ident = $name:literal => $make:expr),* $(,)?) => {
+        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+        pub enum IntegratorKind {
+            #[default]
+            $default,
+            $($variant),*
+        }
+
+        impl IntegratorKind {
+            /// Every kind's name, in the order of the variants.
+            pub const NAMES: [&'static str; 1 + [$($name),*].len()] = [$default_name, $($name),*];
+
+            pub fn from_name(name: &str) -> Option<Self> {
+                match name {
+                    $default_name => Some(IntegratorKind::$default),
+                    $($name => Some(IntegratorKind::$variant),)*
+                    _ => None,
+                }
+            }
+
+            pub fn create(self, $o: IntegratorOptions) -> Box<dyn Integrator> {
+                match self {
+                    IntegratorKind::$default => Box::new($default_make),
+                    $(IntegratorKind::$variant => Box::new($make)),*
+                }
+            }
+        }
+    };
 }
 
-impl IntegratorKind {
-    pub const NAMES: [&'static str; 8] = ["whitted", "direct", "path", "bdpt", "mlt", "sppm", "photon", "env"];
-
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "whitted" => Some(IntegratorKind::Whitted),
-            "direct" => Some(IntegratorKind::Direct),
-            "path" => Some(IntegratorKind::Path),
-            "bdpt" => Some(IntegratorKind::Bdpt),
-            "mlt" => Some(IntegratorKind::Mlt),
-            "sppm" => Some(IntegratorKind::Sppm),
-            "photon" => Some(IntegratorKind::Photon),
-            "env" => Some(IntegratorKind::Env),
-            _ => None,
-        }
-    }
-
-    pub fn create(self, options: IntegratorOptions) -> Box<dyn Integrator> {
-        match self {
-            IntegratorKind::Whitted => Box::new(Whitted { options }),
-            IntegratorKind::Direct => Box::new(Direct { options }),
-            IntegratorKind::Path => Box::new(PathTracer::new(options)),
-            IntegratorKind::Bdpt => Box::new(Bdpt { options }),
-            IntegratorKind::Mlt => Box::new(Mlt::new(options)),
-            IntegratorKind::Sppm => Box::new(Sppm::new(options)),
-            IntegratorKind::Photon => Box::new(PhotonMapper::new(options)),
-            IntegratorKind::Env => Box::new(EnvDirect::new(options.env, options.seed)),
-        }
-    }
+integrator_kinds! { o;
+    Whitted = "whitted" => Whitted { options: o },
+    Direct = "direct" => Direct { options: o },
+    Path = "path" => PathTracer::new(o),
+    Bdpt = "bdpt" => Bdpt { options: o },
+    Mlt = "mlt" => Mlt::new(o),
+    Sppm = "sppm" => Sppm::new(o),
+    Photon = "photon" => PhotonMapper::new(o),
+    Env = "env" => EnvDirect::new(o.env, o.seed),
 }
 
 /// The extent of a shadow ray whose direction reaches the light's point: all of it but the
