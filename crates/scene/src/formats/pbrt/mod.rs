@@ -9,6 +9,7 @@
 //! rendered with [`crate::desc::CameraDesc::mirrored`] where our right-handed look-at would
 //! mirror it. Errors name the file, line and column of the token at fault.
 
+mod materials;
 mod objects;
 mod params;
 mod shapes;
@@ -428,13 +429,13 @@ impl Reader {
                 let kind = p
                     .string("type")?
                     .ok_or_else(|| SceneError::at(here.clone(), "MakeNamedMaterial needs a \"string type\""))?;
-                let index = objects::material(self, &kind, &p, here)?;
+                let index = materials::material(self, &kind, &p, here)?;
                 self.named_materials.insert(n, index);
             }
             "Material" => {
                 let kind = c.string("a material type")?;
                 let p = c.params()?;
-                self.state.material = Some(objects::material(self, &kind, &p, here)?);
+                self.state.material = Some(materials::material(self, &kind, &p, here)?);
             }
             "NamedMaterial" => {
                 let n = c.string("a material name")?;
