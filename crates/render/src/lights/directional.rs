@@ -15,6 +15,16 @@ pub struct Directional {
     pub irradiance: Rgb,
 }
 
+impl Default for Directional {
+    /// The native format's defaults: straight down, irradiance 1.
+    fn default() -> Self {
+        Directional {
+            direction: -Vec3::Y,
+            irradiance: Rgb::WHITE,
+        }
+    }
+}
+
 impl Directional {
     pub fn sample_li(&self, _p: Vec3) -> Option<LightSample> {
         (!self.irradiance.is_black()).then(|| LightSample {

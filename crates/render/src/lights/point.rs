@@ -14,6 +14,16 @@ pub struct Point {
     pub intensity: Rgb,
 }
 
+impl Default for Point {
+    /// The native format's defaults (at the origin, since `position` is required there).
+    fn default() -> Self {
+        Point {
+            position: Vec3::ZERO,
+            intensity: Rgb::WHITE,
+        }
+    }
+}
+
 impl Point {
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
         delta_sample(p, self.position, self.intensity)

@@ -20,6 +20,14 @@ pub struct Spot {
     pub cos_falloff_start: f32,
 }
 
+impl Default for Spot {
+    /// The native format's defaults: pointing down, a 30-degree cone whose falloff starts
+    /// at 25 degrees.
+    fn default() -> Self {
+        Spot::new(Vec3::ZERO, -Vec3::Y, Rgb::WHITE, 30.0, 25.0)
+    }
+}
+
 impl Spot {
     pub fn new(position: Vec3, direction: Vec3, intensity: Rgb, cone_angle: f32, falloff_start: f32) -> Self {
         Spot {
