@@ -164,10 +164,12 @@ impl Layered {
     /// `LayeredBxDF::f` loop body, with the top as the entrance and exit interface).
     fn walk_eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode, walk: &mut Walk) -> Rgb {
         let mut f = Rgb::BLACK;
-        let (Some(wos), Some(wis)) = (
-            self.coat_lobe(wo, walk.next2(), Lobe::Transmission, mode),
-            self.coat_lobe(wi, walk.next2(), Lobe::Transmission, mode.adjoint()),
-        ) else {
+        // The walk in from wo, and the direction sampled in from wi for the estimates out
+        // along it. When that one fails (a microfacet that totally reflects), only those
+        // estimates are lost: the others, out along the walk's own directions, still count.
+        let wos = self.coat_lobe(wo, walk.next2(), Lobe::Transmission, mode);
+        let wis = self.coat_lobe(wi, walk.next2(), Lobe::Transmission, mode.adjoint());
+        let Some(wos) = wos else {
             return f;
         };
         let (h, phase) = (self.thickness, self.phase());
@@ -193,13 +195,15 @@ impl Layered {
                 if 0.0 < zp && zp < h {
                     // Scattering in the medium: out along wis, then on by the phase function
                     // and out along its direction, the two weighed against each other.
-                    let wt = if self.coat_specular() {
-                        1.0
-                    } else {
-                        power_heuristic(wis.pdf, phase.p(-w, -wis.wi))
-                    };
-                    let out = transmittance(zp - h, wis.wi) * wt * phase.p(-w, -wis.wi) / wis.wi.z.abs();
-                    f += beta * self.albedo * wis.weight * out;
+                    if let Some(wis) = &wis {
+                        let wt = if self.coat_specular() {
+                            1.0
+                        } else {
+                            power_heuristic(wis.pdf, phase.p(-w, -wis.wi))
+                        };
+                        let out = transmittance(zp - h, wis.wi) * wt * phase.p(-w, -wis.wi) / wis.wi.z.abs();
+                        f += beta * self.albedo * wis.weight * out;
+                    }
                     let (next, pdf) = phase.sample(-w, walk.next2());
                     if pdf <= 0.0 || next.z == 0.0 {
                         continue;
@@ -226,7 +230,7 @@ impl Layered {
                 continue;
             }
             // On the base: out along wis, then a bounce, and out along the bounce's direction.
-            if !self.base.specular() {
+            if let Some(wis) = wis.as_ref().filter(|_| !self.base.specular()) {
                 let wt = if self.coat_specular() {
                     1.0
                 } else {
@@ -275,7 +279,14 @@ impl Layered {
         let once = c.fresnel(-wt.z) * t2;
         let round = once * inside;
         let (mut sum, mut power) = (Rgb::BLACK, Rgb::WHITE);
-        for _ in 0..=self.max_depth.saturating_sub(2) / 2 {
+        // A walk that leaves after k reflections inside ends at event 2k + 1 (none before
+        // event 1 can: with fewer than two events no light comes back out).
+        let terms = if self.max_depth >= 2 {
+            (self.max_depth - 2) / 2 + 1
+        } else {
+            0
+        };
+        for _ in 0..terms {
             sum += power;
             power *= round;
         }
@@ -385,8 +396,13 @@ impl BsdfModel for Layered {
             }
             (beta, pdf, delta, w) = (beta * s.weight, pdf * s.pdf, delta && s.delta, s.wi);
             if z == h && w.z > 0.0 {
-                // Out through the coating.
-                let pdf = if delta { pdf } else { self.pdf(wo, w, mode) };
+                // Out through the coating. (A delta walk's product of choices may underflow
+                // to 0 after many events: it is still the walk's, and kept.)
+                let pdf = if delta {
+                    pdf.max(f32::MIN_POSITIVE)
+                } else {
+                    self.pdf(wo, w, mode)
+                };
                 return (pdf > 0.0).then_some(BsdfSample {
                     wi: w,
                     weight: beta,

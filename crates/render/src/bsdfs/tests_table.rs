@@ -54,8 +54,9 @@ fn bin_of(w: Vec3) -> usize {
 /// walk noise included in that estimate's variance, which over-states a stratified
 /// estimate's: a conservative tolerance). Each bin and the total may differ by
 /// 4.5 combined standard errors plus 2e-4 (for bins where both are zero but rounding);
-/// 96 bins x 9 views at 4.5 sigma leave a chance near 0.6% that a correct BSDF fails
-/// somewhere, and the fixed seeds make the outcome repeatable.
+/// 96 bins x 7 views at 4.5 sigma leave a chance near 0.5% that a correct BSDF fails
+/// somewhere, and the fixed seeds make the outcome repeatable. Each sample's reported
+/// density is the kind's `pdf` at its direction, bit for bit (what MIS weights rely on).
 #[test]
 fn stochastic_sampling_agrees_with_eval() {
     let mode = TransportMode::Radiance;
@@ -75,6 +76,11 @@ fn stochastic_sampling_agrees_with_eval() {
                     continue;
                 };
                 if !s.delta {
+                    assert_eq!(
+                        s.pdf.to_bits(),
+                        bsdf.pdf(wo, s.wi, mode).to_bits(),
+                        "{name} from {theta}: the sample's density is not pdf's"
+                    );
                     let w = s.weight.r as f64;
                     let b = &mut sampled[bin_of(s.wi)];
                     b.0 += w;

@@ -71,6 +71,12 @@ impl Default for Coated {
 impl Coated {
     /// The layered BSDF at texture coordinates `uv`.
     pub fn bsdf(&self, uv: Vec2) -> Bsdf<'_> {
+        // An index of 0 (or not a number) means none: index-matched, as pbrt-v4 takes it.
+        let eta = if self.eta > 0.0 && self.eta.is_finite() {
+            self.eta
+        } else {
+            1.0
+        };
         let base = match &self.base {
             CoatedBase::Diffuse { reflectance } => LayerBase::Diffuse(Diffuse {
                 reflectance: reflectance.eval(uv),
@@ -81,9 +87,9 @@ impl Coated {
                 roughness,
             } => LayerBase::Conductor(Conductor {
                 fresnel: match *fresnel {
-                    MetalFresnel::Complex { eta, k } => MetalFresnel::Complex {
-                        eta: eta / self.eta,
-                        k: k / self.eta,
+                    MetalFresnel::Complex { eta: n, k } => MetalFresnel::Complex {
+                        eta: n / eta,
+                        k: k / eta,
                     },
                     schlick => schlick,
                 },
@@ -93,7 +99,7 @@ impl Coated {
         };
         let layered = Layered {
             coat: Dielectric {
-                eta: self.eta,
+                eta,
                 reflectance: Rgb::WHITE,
                 transmittance: Rgb::WHITE,
                 alpha: self.roughness.as_ref().and_then(|r| r.at(uv)),
