@@ -426,6 +426,11 @@ fn render_tile(
             &mut rays,
             batch_splats,
         );
+        // What an integrator declares is what it does (checked in every debug render).
+        debug_assert!(
+            batch_splats.is_empty() || integrator.capabilities().splats,
+            "an integrator that declares no splats made some"
+        );
         for s in batch_splats.iter() {
             if s.value.is_finite() {
                 filter.splat(s, (scene.width, scene.height), &mut splats);

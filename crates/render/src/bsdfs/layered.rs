@@ -261,7 +261,7 @@ impl Layered {
     /// The unscattered specular reflection's weight towards `wo`: the coating's F plus, over
     /// a smooth conductor, the light refracted in that bounces between the two as many
     /// times as a walk of `max_depth` events allows, (1 - F)² Σ_k (F F_c T²)^k F_c T².
-    fn specular_weight(&self, wo: Vec3, mode: TransportMode) -> Rgb {
+    fn specular_weight(&self, wo: Vec3) -> Rgb {
         let f = fresnel_dielectric(wo.z, self.coat.eta);
         let mut weight = Rgb::splat(f);
         let LayerBase::Conductor(c) = &self.base else {
@@ -272,10 +272,6 @@ impl Layered {
         };
         let t2 = transmittance(self.thickness, wt).powi(2);
         let inside = fresnel_dielectric(-wt.z, 1.0 / self.coat.eta);
-        let (enter, leave) = match mode {
-            TransportMode::Radiance => (1.0 / (self.coat.eta * self.coat.eta), self.coat.eta * self.coat.eta),
-            TransportMode::Importance => (1.0, 1.0),
-        };
         let once = c.fresnel(-wt.z) * t2;
         let round = once * inside;
         let (mut sum, mut power) = (Rgb::BLACK, Rgb::WHITE);
@@ -290,7 +286,8 @@ impl Layered {
             sum += power;
             power *= round;
         }
-        weight += once * sum * ((1.0 - f) * enter * (1.0 - inside) * leave);
+        // (In radiance, 1/η² in and η² out cancel; in importance neither applies.)
+        weight += once * sum * ((1.0 - f) * (1.0 - inside));
         weight
     }
 }
@@ -415,9 +412,9 @@ impl BsdfModel for Layered {
         None
     }
 
-    fn specular_rays(&self, wo: Vec3, mode: TransportMode, rays: &mut SpecularRays) {
+    fn specular_rays(&self, wo: Vec3, _mode: TransportMode, rays: &mut SpecularRays) {
         if wo.z > 0.0 && self.coat_specular() {
-            rays.push(reflect_z(wo), self.specular_weight(wo, mode));
+            rays.push(reflect_z(wo), self.specular_weight(wo));
         }
     }
 

@@ -130,8 +130,11 @@ impl Environment {
 
     /// A direction towards the environment, with its radiance and solid-angle density.
     pub fn sample_li(&self, u: Vec2) -> Option<LightSample> {
-        let (wi, pdf) = match &self.image {
-            None => (warp::uniform_sphere(u), 1.0 / (4.0 * PI)),
+        let (wi, at) = match &self.image {
+            None => {
+                let wi = warp::uniform_sphere(u);
+                (wi, self.lookup(wi))
+            }
             Some((_, distribution)) => {
                 let ([x, y], _) = distribution.sample([u.x, u.y]);
                 let (wi, sin_theta) = self.direction(Vec2::new(x, y));
@@ -141,20 +144,13 @@ impl Environment {
                 // The radiance and density of the sampled point's own pixel (as Mitsuba's
                 // `envmap` takes them): no mapping of the direction back to the map. The
                 // point stays inside its cell, so it is the pixel the density chose.
-                let at = MapPoint(Vec2::new(x, y), sin_theta);
-                let pdf = self.pdf_at(&at);
-                return (pdf > 0.0 && pdf.is_finite()).then(|| LightSample {
-                    wi,
-                    li: self.le_at(&at),
-                    dist: f32::INFINITY,
-                    pdf,
-                    delta: false,
-                });
+                (wi, MapPoint(Vec2::new(x, y), sin_theta))
             }
         };
+        let pdf = self.pdf_at(&at);
         (pdf > 0.0 && pdf.is_finite()).then(|| LightSample {
             wi,
-            li: self.le(wi),
+            li: self.le_at(&at),
             dist: f32::INFINITY,
             pdf,
             delta: false,
