@@ -5,41 +5,56 @@
 //! table (Chen and Asau, "On Generating Random Variates from an Empirical Distribution",
 //! AIIE Transactions 6(2), 1974): the item at each of n equally spaced values of u, so
 //! that a search covers one bucket instead of the whole CDF, with the same result.
+//!
+//! Each item may carry a payload `P` stored beside its CDF entry (an environment map's
+//! pixel radiance and density): what a sample needs then comes with the cache line its
+//! search already read, instead of one more miss in a separate array.
 
-/// Items `0..n` with probability proportional to their weights.
+/// Items `0..n` with probability proportional to their weights, each carrying a `P`.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Distribution1D {
+pub struct Distribution1D<P = ()> {
     /// Entry `i`: the CDF before item `i` (sum of the weights before it, normalized; 1 at
-    /// `i = n`), and the guide table's item that u = i / n falls in. Side by side, so that
-    /// the guide entry of a bucket and the CDF near it share a cache line.
-    table: Vec<Entry>,
+    /// `i = n`), the guide table's item that u = i / n falls in, and item `i`'s payload
+    /// (the default at `i = n`). Side by side, so that the guide entry of a bucket and the
+    /// CDF near it share a cache line.
+    table: Vec<Entry<P>>,
     total: f64,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Entry {
+struct Entry<P> {
     cdf: f32,
     guide: u32,
+    item: P,
 }
 
 impl Distribution1D {
     /// `None` when there are no weights, one is negative or not finite, or all are zero.
     pub fn new(weights: impl IntoIterator<Item = f32>) -> Option<Self> {
-        let mut sums = vec![0f64];
+        Distribution1D::with_items(weights.into_iter().map(|w| (w, ())))
+    }
+}
+
+impl<P: Copy + Default> Distribution1D<P> {
+    /// Items given as (weight, payload); `None` as for [`Distribution1D::new`].
+    pub fn with_items(items: impl IntoIterator<Item = (f32, P)>) -> Option<Self> {
+        let mut table = vec![];
         let mut total = 0f64;
-        for w in weights {
+        for (w, item) in items {
             if !(w.is_finite() && w >= 0.0) {
                 return None;
             }
+            table.push((total, item));
             total += w as f64;
-            sums.push(total);
         }
         if total <= 0.0 {
             return None;
         }
-        let table = sums.iter().map(|s| Entry {
+        table.push((total, P::default()));
+        let table = table.into_iter().map(|(s, item)| Entry {
             cdf: (s / total) as f32,
             guide: 0,
+            item,
         });
         let mut d = Distribution1D {
             table: table.collect(),
@@ -51,7 +66,9 @@ impl Distribution1D {
         }
         Some(d)
     }
+}
 
+impl<P: Copy> Distribution1D<P> {
     fn cdf(&self, i: usize) -> f32 {
         self.table[i].cdf
     }
@@ -93,10 +110,20 @@ impl Distribution1D {
         self.table.get(i + 1).map_or(0.0, |hi| hi.cdf - self.cdf(i))
     }
 
+    /// Item `i`'s payload.
+    pub fn item(&self, i: usize) -> P {
+        self.table[i].item
+    }
+
     /// The item whose CDF interval holds `u` in [0, 1), its probability, and `u` rescaled to
     /// [0, 1) within that interval (so one random number can serve again). Items of zero
     /// weight are never chosen.
     pub fn sample(&self, u: f32) -> (usize, f32, f32) {
+        // One item (a scene's only light): the general path's answer, without its search
+        // and division (pmf 1, and u, already below one, unchanged).
+        if self.len() == 1 {
+            return (0, 1.0, u.clamp(0.0, crate::samplers::ONE_MINUS_EPSILON));
+        }
         let i = self.find(u);
         let pmf = self.pmf(i);
         let rest = ((u - self.cdf(i)) / pmf).clamp(0.0, crate::samplers::ONE_MINUS_EPSILON);
@@ -107,9 +134,11 @@ impl Distribution1D {
 /// A piecewise-constant density over the unit square from a `width` x `height` grid of
 /// non-negative weights (row-major, row 0 at v = 0), sampled by the marginal over rows and
 /// the conditional within the chosen row (pbrt-v4 section A.5, "PiecewiseConstant2D").
+/// Each cell may carry a payload `P` (see [`Distribution1D`]); cells of rows of zero weight
+/// have none.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Distribution2D {
-    rows: Vec<Option<Distribution1D>>,
+pub struct Distribution2D<P = ()> {
+    rows: Vec<Option<Distribution1D<P>>>,
     marginal: Distribution1D,
     width: usize,
     height: usize,
@@ -118,17 +147,43 @@ pub struct Distribution2D {
 impl Distribution2D {
     /// `None` when the weights are all zero, or one is negative or not finite.
     pub fn new(weights: &[f32], width: usize, height: usize) -> Option<Self> {
+        Distribution2D::with_items(weights, |_| (), width, height)
+    }
+}
+
+impl<P: Copy + Default> Distribution2D<P> {
+    /// The weights as for [`Distribution2D::new`], cell `i` (row-major) carrying
+    /// `item(i, density)`, with `density` the density [`Distribution2D::pdf`] gives there.
+    pub fn with_items(
+        weights: &[f32],
+        item: impl Fn((usize, f32)) -> P,
+        width: usize,
+        height: usize,
+    ) -> Option<Self> {
         if width == 0 || height == 0 || weights.len() != width * height {
             return None;
         }
         if weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) {
             return None;
         }
-        let rows: Vec<Option<Distribution1D>> = weights
+        let plain: Vec<Option<Distribution1D>> = weights
             .chunks(width)
             .map(|row| Distribution1D::new(row.iter().copied()))
             .collect();
-        let marginal = Distribution1D::new(rows.iter().map(|r| r.as_ref().map_or(0.0, |d| d.total() as f32)))?;
+        let marginal = Distribution1D::new(plain.iter().map(|r| r.as_ref().map_or(0.0, |d| d.total() as f32)))?;
+        let cells = (width * height) as f32;
+        let rows = plain
+            .iter()
+            .enumerate()
+            .map(|(y, row)| {
+                let row = row.as_ref()?;
+                let items = (0..width).map(|x| {
+                    let density = marginal.pmf(y) * row.pmf(x) * cells;
+                    (weights[y * width + x], item((y * width + x, density)))
+                });
+                Distribution1D::with_items(items)
+            })
+            .collect();
         Some(Distribution2D {
             rows,
             marginal,
@@ -136,9 +191,17 @@ impl Distribution2D {
             height,
         })
     }
+}
 
+impl<P: Copy> Distribution2D<P> {
     /// A point of the unit square and its density there.
     pub fn sample(&self, u: [f32; 2]) -> ([f32; 2], f32) {
+        let (point, density, _) = self.sample_item(u);
+        (point, density)
+    }
+
+    /// [`Distribution2D::sample`] with the payload of the cell the point lies in.
+    pub fn sample_item(&self, u: [f32; 2]) -> ([f32; 2], f32, P) {
         let (y, py, rest_y) = self.marginal.sample(u[1]);
         let row = self.rows[y].as_ref().expect("rows of zero weight are never chosen");
         let (x, px, rest_x) = row.sample(u[0]);
@@ -146,17 +209,29 @@ impl Distribution2D {
         let within =
             |i: usize, rest: f32, n: usize| ((i as f32 + rest) / n as f32).min(((i + 1) as f32 / n as f32).next_down());
         let point = [within(x, rest_x, self.width), within(y, rest_y, self.height)];
-        (point, px * py * (self.width * self.height) as f32)
+        (point, px * py * (self.width * self.height) as f32, row.item(x))
+    }
+
+    /// The cell holding point `p` of the unit square: (column, row).
+    fn cell(&self, p: [f32; 2]) -> (usize, usize) {
+        let x = ((p[0] * self.width as f32) as usize).min(self.width - 1);
+        let y = ((p[1] * self.height as f32) as usize).min(self.height - 1);
+        (x, y)
     }
 
     /// The density at point `p` of the unit square.
     pub fn pdf(&self, p: [f32; 2]) -> f32 {
-        let x = ((p[0] * self.width as f32) as usize).min(self.width - 1);
-        let y = ((p[1] * self.height as f32) as usize).min(self.height - 1);
+        let (x, y) = self.cell(p);
         let Some(row) = &self.rows[y] else {
             return 0.0;
         };
         self.marginal.pmf(y) * row.pmf(x) * (self.width * self.height) as f32
+    }
+
+    /// The payload of the cell holding point `p`; `None` in a row of zero weight.
+    pub fn item_at(&self, p: [f32; 2]) -> Option<P> {
+        let (x, y) = self.cell(p);
+        self.rows[y].as_ref().map(|row| row.item(x))
     }
 }
 

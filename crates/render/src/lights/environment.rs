@@ -14,13 +14,25 @@ use glam::{Mat3, Vec2, Vec3};
 use penumbra_core::{warp, Distribution2D, Ray, Rgb};
 use std::f32::consts::PI;
 
-/// A direction's place on the map: (u, v) and sin θ (see [`Environment::lookup`]).
+/// What the map holds for a direction (see [`Environment::lookup`]): its radiance and
+/// solid-angle density.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MapPoint(Vec2, f32);
+pub struct MapPoint {
+    le: Rgb,
+    pdf: f32,
+}
+
+/// A pixel's radiance (times the map's scale) and the 2D density of its cell, kept beside
+/// its entry of the sampling distribution (one cache line for a sample's whole answer).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Texel {
+    radiance: Rgb,
+    density: f32,
+}
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Environment {
-    image: Option<(TextureImage, Distribution2D)>,
+    image: Option<(TextureImage, Distribution2D<Texel>)>,
     /// The radiance of a constant environment, or the image's multiplier.
     scale: Rgb,
     /// From the map's frame to the world, and back.
@@ -70,7 +82,12 @@ impl Environment {
                 (p.luminance() * scale.luminance()).max(0.0) * theta.sin()
             })
             .collect();
-        let distribution = Distribution2D::new(&weights, w, h).ok_or("the map is black: it gives no light")?;
+        let texel = |(i, density): (usize, f32)| Texel {
+            radiance: image.pixels[i] * scale,
+            density,
+        };
+        let distribution =
+            Distribution2D::with_items(&weights, texel, w, h).ok_or("the map is black: it gives no light")?;
         let mean_luminance = (solid_angle_integral(&image, |p| p.luminance() as f64) * scale.luminance() as f64
             / (4.0 * PI as f64)) as f32;
         Ok(Environment {
@@ -82,14 +99,30 @@ impl Environment {
         })
     }
 
-    /// Where the world direction `d` falls on the map, for [`Environment::le_at`] and
+    /// What the map holds for the world direction `d`, for [`Environment::le_at`] and
     /// [`Environment::pdf_at`]: a direction's radiance and density share one lookup.
     pub fn lookup(&self, d: Vec3) -> MapPoint {
-        match self.image {
-            None => MapPoint(Vec2::ZERO, 1.0),
-            Some(_) => {
-                let (uv, sin_theta) = self.map_coordinates(d);
-                MapPoint(uv, sin_theta)
+        let Some((image, distribution)) = &self.image else {
+            return MapPoint {
+                le: self.scale,
+                pdf: 1.0 / (4.0 * PI),
+            };
+        };
+        let (uv, sin_theta) = self.map_coordinates(d);
+        match distribution.item_at([uv.x, uv.y]) {
+            Some(texel) => MapPoint {
+                le: texel.radiance,
+                pdf: solid_angle_density(texel.density, sin_theta),
+            },
+            // A row of zero weight: never sampled, its radiance (black, unless the scale
+            // has no luminance) from the image.
+            None => {
+                let x = ((uv.x * image.width as f32) as usize).min(image.width - 1);
+                let y = ((uv.y * image.height as f32) as usize).min(image.height - 1);
+                MapPoint {
+                    le: image.pixels[y * image.width + x] * self.scale,
+                    pdf: 0.0,
+                }
             }
         }
     }
@@ -119,24 +152,18 @@ impl Environment {
 
     /// Radiance arriving from the direction that `at` looked up.
     pub fn le_at(&self, at: &MapPoint) -> Rgb {
-        let Some((image, _)) = &self.image else {
-            return self.scale;
-        };
-        let uv = at.0;
-        let x = ((uv.x * image.width as f32) as usize).min(image.width - 1);
-        let y = ((uv.y * image.height as f32) as usize).min(image.height - 1);
-        image.pixels[y * image.width + x] * self.scale
+        at.le
     }
 
     /// A direction towards the environment, with its radiance and solid-angle density.
     pub fn sample_li(&self, u: Vec2) -> Option<LightSample> {
-        let (wi, at) = match &self.image {
+        let at = match &self.image {
             None => {
                 let wi = warp::uniform_sphere(u);
                 (wi, self.lookup(wi))
             }
             Some((_, distribution)) => {
-                let ([x, y], _) = distribution.sample([u.x, u.y]);
+                let ([x, y], _, texel) = distribution.sample_item([u.x, u.y]);
                 let (wi, sin_theta) = self.direction(Vec2::new(x, y));
                 if sin_theta <= 0.0 {
                     return None;
@@ -144,13 +171,17 @@ impl Environment {
                 // The radiance and density of the sampled point's own pixel (as Mitsuba's
                 // `envmap` takes them): no mapping of the direction back to the map. The
                 // point stays inside its cell, so it is the pixel the density chose.
-                (wi, MapPoint(Vec2::new(x, y), sin_theta))
+                let at = MapPoint {
+                    le: texel.radiance,
+                    pdf: solid_angle_density(texel.density, sin_theta),
+                };
+                (wi, at)
             }
         };
-        let pdf = self.pdf_at(&at);
-        (pdf > 0.0 && pdf.is_finite()).then(|| LightSample {
+        let (wi, MapPoint { le, pdf }) = at;
+        (pdf > 0.0 && pdf.is_finite()).then_some(LightSample {
             wi,
-            li: self.le_at(&at),
+            li: le,
             dist: f32::INFINITY,
             pdf,
             delta: false,
@@ -164,14 +195,7 @@ impl Environment {
 
     /// Solid-angle density of [`Environment::sample_li`] at the direction `at` looked up.
     pub fn pdf_at(&self, at: &MapPoint) -> f32 {
-        let Some((_, distribution)) = &self.image else {
-            return 1.0 / (4.0 * PI);
-        };
-        let MapPoint(uv, sin_theta) = *at;
-        if sin_theta <= 0.0 {
-            return 0.0;
-        }
-        distribution.pdf([uv.x, uv.y]) / (2.0 * PI * PI * sin_theta)
+        at.pdf
     }
 
     /// A ray of light coming in from the environment: its direction from `u_dir` as
@@ -192,6 +216,15 @@ impl Environment {
     pub fn power(&self, scene_radius: f32) -> f32 {
         PI * scene_radius * scene_radius * 4.0 * PI * self.mean_luminance
     }
+}
+
+/// The solid-angle density of a direction at polar sine `sin_theta` in a cell of 2D
+/// density `density`: the equirectangular map's Jacobian is 2π² sin θ (pbrt-v4 section 12.5.2).
+fn solid_angle_density(density: f32, sin_theta: f32) -> f32 {
+    if sin_theta <= 0.0 {
+        return 0.0;
+    }
+    density / (2.0 * PI * PI * sin_theta)
 }
 
 /// ∫ g(L) dω over the sphere for a map constant over each pixel: each pixel of row y spans
