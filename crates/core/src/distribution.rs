@@ -154,12 +154,7 @@ impl Distribution2D {
 impl<P: Copy + Default> Distribution2D<P> {
     /// The weights as for [`Distribution2D::new`], cell `i` (row-major) carrying
     /// `item(i, density)`, with `density` the density [`Distribution2D::pdf`] gives there.
-    pub fn with_items(
-        weights: &[f32],
-        item: impl Fn((usize, f32)) -> P,
-        width: usize,
-        height: usize,
-    ) -> Option<Self> {
+    pub fn with_items(weights: &[f32], item: impl Fn((usize, f32)) -> P, width: usize, height: usize) -> Option<Self> {
         if width == 0 || height == 0 || weights.len() != width * height {
             return None;
         }
