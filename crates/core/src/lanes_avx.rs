@@ -177,10 +177,27 @@ mod tests {
             return;
         }
         // SAFETY: the CPU runs AVX2 (checked above).
-        unsafe { compare() }
+        unsafe { compare_avx2() }
+        if Level::Avx512.supported() {
+            // SAFETY: the CPU runs AVX-512 (checked just above).
+            unsafe { compare_avx512() }
+        } else {
+            println!("note: this CPU lacks AVX-512: F8Avx compiled for it is not exercised");
+        }
     }
 
     #[target_feature(enable = "avx2")]
+    unsafe fn compare_avx2() {
+        compare()
+    }
+
+    crate::avx512_fn! {
+        unsafe fn compare_avx512() {
+            compare()
+        }
+    }
+
+    #[inline(always)]
     unsafe fn compare() {
         let special = [
             0.0,

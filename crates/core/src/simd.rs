@@ -1,13 +1,15 @@
 //! Run-time choice of the SIMD kernels. The binary is built for the baseline x86-64 target
 //! (SSE2); the kernels that gain from wider registers (the BVH's eight-box slab test, the
 //! Sobol sampler's integer lanes, the eight-lane Lambertian bounce in
-//! [`crate::lanes_avx::F8Avx`]) also exist compiled for AVX2 and are picked once per
+//! [`crate::lanes_avx::F8Avx`]) also exist compiled for AVX2 and for AVX-512 (the same
+//! eight-lane code, which AVX-512VL encodes with 32 registers and mask registers) and are
+//! picked once per
 //! process from what the CPU reports (`is_x86_feature_detected!`), the way Embree and
 //! Mitsuba's Dr.Jit pick theirs. Every kernel performs the same IEEE operations in the same
 //! order at every level (no fused multiply-adds), so images are bit-identical whichever
 //! level runs (`tests/determinism.rs` forces each one).
 //!
-//! `PENUMBRA_SIMD=sse2|avx2` caps the level (for testing, or to compare kernels).
+//! `PENUMBRA_SIMD=sse2|avx2|avx512` caps the level (for testing, or to compare kernels).
 
 use std::fmt;
 use std::sync::atomic::{AtomicU8, Ordering};
@@ -19,17 +21,31 @@ pub enum Level {
     Sse2 = 1,
     /// AVX2 (eight `f32` or `i32` lanes per instruction).
     Avx2 = 2,
+    /// AVX-512 F, VL, BW and DQ: the AVX2 kernels compiled with the wider instruction set.
+    Avx512 = 3,
+}
+
+/// Compiles the function it wraps for [`Level::Avx512`]: `#[target_feature]` with the
+/// level's features, listed here once (an attribute takes only a literal).
+#[macro_export]
+macro_rules! avx512_fn {
+    ($(#[$meta:meta])* $vis:vis unsafe fn $($rest:tt)*) => {
+        $(#[$meta])*
+        #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq")]
+        $vis unsafe fn $($rest)*
+    };
 }
 
 impl Level {
     /// Every level, narrowest first.
-    pub const ALL: [Level; 2] = [Level::Sse2, Level::Avx2];
+    pub const ALL: [Level; 3] = [Level::Sse2, Level::Avx2, Level::Avx512];
 
     /// The name `PENUMBRA_SIMD` takes and reports print.
     pub fn name(self) -> &'static str {
         match self {
             Level::Sse2 => "sse2",
             Level::Avx2 => "avx2",
+            Level::Avx512 => "avx512",
         }
     }
 
@@ -39,8 +55,15 @@ impl Level {
             Level::Sse2 => true,
             #[cfg(target_arch = "x86_64")]
             Level::Avx2 => is_x86_feature_detected!("avx2"),
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512 => {
+                is_x86_feature_detected!("avx512f")
+                    && is_x86_feature_detected!("avx512vl")
+                    && is_x86_feature_detected!("avx512bw")
+                    && is_x86_feature_detected!("avx512dq")
+            }
             #[cfg(not(target_arch = "x86_64"))]
-            Level::Avx2 => false,
+            Level::Avx2 | Level::Avx512 => false,
         }
     }
 
@@ -74,6 +97,7 @@ pub fn level() -> Level {
     match LEVEL.load(Ordering::Relaxed) {
         1 => Level::Sse2,
         2 => Level::Avx2,
+        3 => Level::Avx512,
         _ => detect(),
     }
 }

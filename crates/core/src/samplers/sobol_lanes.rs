@@ -5,16 +5,27 @@
 //! computed one by one by the scalar code.
 
 use super::sobol::{coordinate, laine_karras, second_seed};
+use crate::simd::Level;
 
 /// The 2D points of eight keys, given by their patterns and reversed sample indices:
 /// `(x, y)` per lane as [`super::sobol::sample_2d`] computes them; with `two == false` only
 /// `x` (then [`super::sobol::sample_1d`]'s value) and `y` is zero.
 #[inline]
 pub(super) fn sample_lanes(pattern: &[u64; 8], index_reversed: &[u32; 8], two: bool) -> ([f32; 8], [f32; 8]) {
+    sample_lanes_at(crate::simd::level(), pattern, index_reversed, two)
+}
+
+/// [`sample_lanes`] with the kernels of `level`, which the CPU must run.
+#[inline]
+fn sample_lanes_at(level: Level, pattern: &[u64; 8], index_reversed: &[u32; 8], two: bool) -> ([f32; 8], [f32; 8]) {
+    debug_assert!(level.supported());
+    // SAFETY: the CPU runs the level's instructions (`Level::supported`, checked when the
+    // level was set).
     #[cfg(target_arch = "x86_64")]
-    if crate::simd::level() >= crate::simd::Level::Avx2 {
-        // SAFETY: the CPU runs AVX2 (`Level::supported`, checked when the level was set).
-        return unsafe { avx2::sample_lanes(pattern, index_reversed, two) };
+    match level {
+        Level::Avx512 => return unsafe { avx2::sample_lanes_avx512(pattern, index_reversed, two) },
+        Level::Avx2 => return unsafe { avx2::sample_lanes_avx2(pattern, index_reversed, two) },
+        Level::Sse2 => {}
     }
     scalar(pattern, index_reversed, two)
 }
@@ -103,13 +114,22 @@ mod avx2 {
         _mm256_loadu_si256(v.as_ptr() as *const __m256i)
     }
 
-    /// [`super::sample_lanes`] with AVX2.
+    /// [`super::sample_lanes`] compiled for AVX2.
     #[target_feature(enable = "avx2")]
-    pub(super) unsafe fn sample_lanes(
-        pattern: &[u64; 8],
-        index_reversed: &[u32; 8],
-        two: bool,
-    ) -> ([f32; 8], [f32; 8]) {
+    pub(super) unsafe fn sample_lanes_avx2(p: &[u64; 8], i: &[u32; 8], two: bool) -> ([f32; 8], [f32; 8]) {
+        sample_lanes(p, i, two)
+    }
+
+    crate::avx512_fn! {
+        /// [`super::sample_lanes`] compiled for AVX-512.
+        pub(super) unsafe fn sample_lanes_avx512(p: &[u64; 8], i: &[u32; 8], two: bool) -> ([f32; 8], [f32; 8]) {
+            sample_lanes(p, i, two)
+        }
+    }
+
+    /// [`super::sample_lanes`] in AVX2 integer lanes.
+    #[inline(always)]
+    unsafe fn sample_lanes(pattern: &[u64; 8], index_reversed: &[u32; 8], two: bool) -> ([f32; 8], [f32; 8]) {
         let s0 = load(pattern.map(|p| p as u32));
         let s1 = load(pattern.map(|p| (p >> 32) as u32));
         let j = laine_karras(load(*index_reversed), s0);
@@ -135,8 +155,9 @@ mod tests {
     /// over the whole 32 and 64 bits (reversals and scrambles of every bit position).
     #[test]
     fn lanes_equal_the_scalar_points() {
-        if !crate::simd::Level::Avx2.supported() {
-            println!("note: this CPU lacks AVX2: the lanes are the scalar code, checked against the definition only");
+        let levels: Vec<Level> = Level::ALL.into_iter().filter(|l| l.supported()).collect();
+        for l in Level::ALL.iter().filter(|l| !l.supported()) {
+            println!("note: this CPU lacks {l}: its lanes are not checked here");
         }
         for round in 0..20_000u64 {
             let pattern = std::array::from_fn(|k| mix64(round * 8 + k as u64));
@@ -156,16 +177,11 @@ mod tests {
             assert_eq!(scalar(&pattern, &index_reversed, false).0, ones);
             for two in [false, true] {
                 let want = scalar(&pattern, &index_reversed, two);
-                #[cfg(target_arch = "x86_64")]
-                if crate::simd::Level::Avx2.supported() {
-                    // SAFETY: the CPU runs AVX2 (checked just above).
-                    let got = unsafe { avx2::sample_lanes(&pattern, &index_reversed, two) };
-                    assert_eq!(got.0.map(f32::to_bits), want.0.map(f32::to_bits), "round {round}");
-                    assert_eq!(got.1.map(f32::to_bits), want.1.map(f32::to_bits), "round {round}");
+                for &l in &levels {
+                    let got = sample_lanes_at(l, &pattern, &index_reversed, two);
+                    assert_eq!(got.0.map(f32::to_bits), want.0.map(f32::to_bits), "{l} round {round}");
+                    assert_eq!(got.1.map(f32::to_bits), want.1.map(f32::to_bits), "{l} round {round}");
                 }
-                let got = sample_lanes(&pattern, &index_reversed, two);
-                assert_eq!(got.0.map(f32::to_bits), want.0.map(f32::to_bits), "round {round}");
-                assert_eq!(got.1.map(f32::to_bits), want.1.map(f32::to_bits), "round {round}");
             }
         }
     }

@@ -267,7 +267,8 @@ impl<P: PrimitiveSet> Bvh<P> {
     }
 }
 
-/// The traversals compiled for AVX2: the whole loop, with the eight-wide slab test.
+/// The traversals compiled for AVX2 and for AVX-512: the whole loop, with the eight-wide
+/// slab test.
 #[cfg(target_arch = "x86_64")]
 impl<P: PrimitiveSet> Bvh<P> {
     #[target_feature(enable = "avx2")]
@@ -278,6 +279,18 @@ impl<P: PrimitiveSet> Bvh<P> {
     #[target_feature(enable = "avx2")]
     unsafe fn any_hit_avx2(&self, ray: &Ray, t_max: f32) -> bool {
         self.any_hit_kernel::<true>(ray, t_max)
+    }
+
+    penumbra_core::avx512_fn! {
+        unsafe fn closest_avx512<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+            self.closest_hit::<C, true>(ray, t_max, stats)
+        }
+    }
+
+    penumbra_core::avx512_fn! {
+        unsafe fn any_hit_avx512(&self, ray: &Ray, t_max: f32) -> bool {
+            self.any_hit_kernel::<true>(ray, t_max)
+        }
     }
 }
 
@@ -398,19 +411,23 @@ const ROUNDING: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32:
 
 impl<P: PrimitiveSet> Traverse for Bvh<P> {
     fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+        // SAFETY: the CPU runs the level's instructions (checked when the level was chosen).
         #[cfg(target_arch = "x86_64")]
-        if simd::level() >= Level::Avx2 {
-            // SAFETY: the CPU runs AVX2 (checked when the level was chosen).
-            return unsafe { self.closest_avx2(ray, t_max, stats) };
+        match simd::level() {
+            Level::Avx512 => return unsafe { self.closest_avx512(ray, t_max, stats) },
+            Level::Avx2 => return unsafe { self.closest_avx2(ray, t_max, stats) },
+            Level::Sse2 => {}
         }
         self.closest_hit::<C, false>(ray, t_max, stats)
     }
 
     fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
+        // SAFETY: the CPU runs the level's instructions (checked when the level was chosen).
         #[cfg(target_arch = "x86_64")]
-        if simd::level() >= Level::Avx2 {
-            // SAFETY: the CPU runs AVX2 (checked when the level was chosen).
-            return unsafe { self.any_hit_avx2(ray, t_max) };
+        match simd::level() {
+            Level::Avx512 => return unsafe { self.any_hit_avx512(ray, t_max) },
+            Level::Avx2 => return unsafe { self.any_hit_avx2(ray, t_max) },
+            Level::Sse2 => {}
         }
         self.any_hit_kernel::<false>(ray, t_max)
     }

@@ -256,20 +256,26 @@ fn lane_kernel<L: Lane8>(
 /// [`lane_kernel`] at the SIMD level the CPU runs ([`simd::level`]); the same floats at
 /// every level.
 fn run_lane_kernel(c: &Columns, f: &Flags, u_light: ([f32; 8], [f32; 8]), u_dir: ([f32; 8], [f32; 8])) -> LaneResults {
+    type U = ([f32; 8], [f32; 8]);
+    /// The kernel compiled for AVX2, in `F8Avx` lanes.
     #[cfg(target_arch = "x86_64")]
-    if simd::level() >= Level::Avx2 {
-        /// The kernel compiled for AVX2, in `F8Avx` lanes.
-        #[target_feature(enable = "avx2")]
-        unsafe fn avx2(
-            c: &Columns,
-            f: &Flags,
-            u_light: ([f32; 8], [f32; 8]),
-            u_dir: ([f32; 8], [f32; 8]),
-        ) -> LaneResults {
+    #[target_feature(enable = "avx2")]
+    unsafe fn avx2(c: &Columns, f: &Flags, u_light: U, u_dir: U) -> LaneResults {
+        lane_kernel::<F8Avx>(c, f, u_light, u_dir)
+    }
+    #[cfg(target_arch = "x86_64")]
+    penumbra_core::avx512_fn! {
+        /// The kernel compiled for AVX-512, in the same `F8Avx` lanes.
+        unsafe fn avx512(c: &Columns, f: &Flags, u_light: U, u_dir: U) -> LaneResults {
             lane_kernel::<F8Avx>(c, f, u_light, u_dir)
         }
-        // SAFETY: the CPU runs AVX2 (checked when the level was chosen).
-        return unsafe { avx2(c, f, u_light, u_dir) };
+    }
+    // SAFETY: the CPU runs the level's instructions (checked when the level was chosen).
+    #[cfg(target_arch = "x86_64")]
+    match simd::level() {
+        Level::Avx512 => return unsafe { avx512(c, f, u_light, u_dir) },
+        Level::Avx2 => return unsafe { avx2(c, f, u_light, u_dir) },
+        Level::Sse2 => {}
     }
     lane_kernel::<F8>(c, f, u_light, u_dir)
 }
