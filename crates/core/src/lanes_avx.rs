@@ -186,13 +186,8 @@ mod tests {
         }
     }
 
-    #[target_feature(enable = "avx2")]
-    unsafe fn compare_avx2() {
-        compare()
-    }
-
-    crate::avx512_fn! {
-        unsafe fn compare_avx512() {
+    crate::level_fns! {
+        unsafe fn [compare_avx2, compare_avx512]() {
             compare()
         }
     }

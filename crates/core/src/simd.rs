@@ -2,9 +2,8 @@
 //! (SSE2); the kernels that gain from wider registers (the BVH's eight-box slab test, the
 //! Sobol sampler's integer lanes, the eight-lane Lambertian bounce in
 //! [`crate::lanes_avx::F8Avx`]) also exist compiled for AVX2 and for AVX-512 (the same
-//! eight-lane code, which AVX-512VL encodes with 32 registers and mask registers) and are
-//! picked once per
-//! process from what the CPU reports (`is_x86_feature_detected!`), the way Embree and
+//! eight-lane code, which AVX-512VL encodes with 32 registers and mask registers;
+//! [`level_fns!`]) and are picked once per process from what the CPU reports (`is_x86_feature_detected!`), the way Embree and
 //! Mitsuba's Dr.Jit pick theirs. Every kernel performs the same IEEE operations in the same
 //! order at every level (no fused multiply-adds), so images are bit-identical whichever
 //! level runs (`tests/determinism.rs` forces each one).
@@ -25,14 +24,20 @@ pub enum Level {
     Avx512 = 3,
 }
 
-/// Compiles the function it wraps for [`Level::Avx512`]: `#[target_feature]` with the
-/// level's features, listed here once (an attribute takes only a literal).
+/// Compiles one function body twice, as `unsafe fn [avx2_name, avx512_name] ...`: once with
+/// AVX2's target features and once with [`Level::Avx512`]'s (listed here once: an attribute
+/// takes only a literal). The body usually calls an `#[inline(always)]` kernel, which is
+/// then compiled whole at each level.
 #[macro_export]
-macro_rules! avx512_fn {
-    ($(#[$meta:meta])* $vis:vis unsafe fn $($rest:tt)*) => {
+macro_rules! level_fns {
+    ($(#[$meta:meta])* $vis:vis unsafe fn [$avx2:ident, $avx512:ident] $($rest:tt)*) => {
+        $(#[$meta])*
+        #[target_feature(enable = "avx2")]
+        $vis unsafe fn $avx2 $($rest)*
+
         $(#[$meta])*
         #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq")]
-        $vis unsafe fn $($rest)*
+        $vis unsafe fn $avx512 $($rest)*
     };
 }
 

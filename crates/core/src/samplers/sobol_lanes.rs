@@ -114,15 +114,9 @@ mod avx2 {
         _mm256_loadu_si256(v.as_ptr() as *const __m256i)
     }
 
-    /// [`super::sample_lanes`] compiled for AVX2.
-    #[target_feature(enable = "avx2")]
-    pub(super) unsafe fn sample_lanes_avx2(p: &[u64; 8], i: &[u32; 8], two: bool) -> ([f32; 8], [f32; 8]) {
-        sample_lanes(p, i, two)
-    }
-
-    crate::avx512_fn! {
-        /// [`super::sample_lanes`] compiled for AVX-512.
-        pub(super) unsafe fn sample_lanes_avx512(p: &[u64; 8], i: &[u32; 8], two: bool) -> ([f32; 8], [f32; 8]) {
+    crate::level_fns! {
+        /// [`super::sample_lanes`] compiled for AVX2 and for AVX-512.
+        pub(super) unsafe fn [sample_lanes_avx2, sample_lanes_avx512](p: &[u64; 8], i: &[u32; 8], two: bool) -> ([f32; 8], [f32; 8]) {
             sample_lanes(p, i, two)
         }
     }

@@ -271,24 +271,14 @@ impl<P: PrimitiveSet> Bvh<P> {
 /// slab test.
 #[cfg(target_arch = "x86_64")]
 impl<P: PrimitiveSet> Bvh<P> {
-    #[target_feature(enable = "avx2")]
-    unsafe fn closest_avx2<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
-        self.closest_hit::<C, true>(ray, t_max, stats)
-    }
-
-    #[target_feature(enable = "avx2")]
-    unsafe fn any_hit_avx2(&self, ray: &Ray, t_max: f32) -> bool {
-        self.any_hit_kernel::<true>(ray, t_max)
-    }
-
-    penumbra_core::avx512_fn! {
-        unsafe fn closest_avx512<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
+    penumbra_core::level_fns! {
+        unsafe fn [closest_avx2, closest_avx512]<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
             self.closest_hit::<C, true>(ray, t_max, stats)
         }
     }
 
-    penumbra_core::avx512_fn! {
-        unsafe fn any_hit_avx512(&self, ray: &Ray, t_max: f32) -> bool {
+    penumbra_core::level_fns! {
+        unsafe fn [any_hit_avx2, any_hit_avx512](&self, ray: &Ray, t_max: f32) -> bool {
             self.any_hit_kernel::<true>(ray, t_max)
         }
     }

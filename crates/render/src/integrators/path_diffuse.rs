@@ -257,16 +257,10 @@ fn lane_kernel<L: Lane8>(
 /// every level.
 fn run_lane_kernel(c: &Columns, f: &Flags, u_light: ([f32; 8], [f32; 8]), u_dir: ([f32; 8], [f32; 8])) -> LaneResults {
     type U = ([f32; 8], [f32; 8]);
-    /// The kernel compiled for AVX2, in `F8Avx` lanes.
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn avx2(c: &Columns, f: &Flags, u_light: U, u_dir: U) -> LaneResults {
-        lane_kernel::<F8Avx>(c, f, u_light, u_dir)
-    }
-    #[cfg(target_arch = "x86_64")]
-    penumbra_core::avx512_fn! {
-        /// The kernel compiled for AVX-512, in the same `F8Avx` lanes.
-        unsafe fn avx512(c: &Columns, f: &Flags, u_light: U, u_dir: U) -> LaneResults {
+    penumbra_core::level_fns! {
+        /// The kernel compiled for AVX2 and for AVX-512, in `F8Avx` lanes.
+        unsafe fn [avx2, avx512](c: &Columns, f: &Flags, u_light: U, u_dir: U) -> LaneResults {
             lane_kernel::<F8Avx>(c, f, u_light, u_dir)
         }
     }
