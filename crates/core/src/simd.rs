@@ -3,8 +3,8 @@
 //! Sobol sampler's integer lanes, the eight-lane Lambertian bounce in
 //! [`crate::lanes_avx::F8Avx`]) also exist compiled for AVX2 and for AVX-512 (the same
 //! eight-lane code, which AVX-512VL encodes with 32 registers and mask registers;
-//! [`level_fns!`]) and are picked once per process from what the CPU reports (`is_x86_feature_detected!`), the way Embree and
-//! Mitsuba's Dr.Jit pick theirs. Every kernel performs the same IEEE operations in the same
+//! [`crate::level_fns!`]) and are picked once per process from what the CPU reports
+//! (`is_x86_feature_detected!`), the way Embree and Mitsuba's Dr.Jit pick theirs. Every kernel performs the same IEEE operations in the same
 //! order at every level (no fused multiply-adds), so images are bit-identical whichever
 //! level runs (`tests/determinism.rs` forces each one).
 //!
