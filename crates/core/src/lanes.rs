@@ -82,6 +82,7 @@ pub trait Real:
     fn cmp_lt(self, other: Self) -> Self::Mask;
     fn cmp_le(self, other: Self) -> Self::Mask;
     fn cmp_gt(self, other: Self) -> Self::Mask;
+    fn cmp_ge(self, other: Self) -> Self::Mask;
     fn cmp_eq(self, other: Self) -> Self::Mask;
     fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     fn or(a: Self::Mask, b: Self::Mask) -> Self::Mask;
@@ -132,6 +133,10 @@ impl Real for f32 {
     #[inline(always)]
     fn cmp_gt(self, other: Self) -> bool {
         self > other
+    }
+    #[inline(always)]
+    fn cmp_ge(self, other: Self) -> bool {
+        self >= other
     }
     #[inline(always)]
     fn cmp_eq(self, other: Self) -> bool {
@@ -203,7 +208,7 @@ impl Real for F8 {
     fn copysign(self, sign: Self) -> Self {
         F8(self.0.copysign(sign.0))
     }
-    lane_comparisons!(cmp_lt CmpLt, cmp_le CmpLe, cmp_gt CmpGt, cmp_eq CmpEq);
+    lane_comparisons!(cmp_lt CmpLt, cmp_le CmpLe, cmp_gt CmpGt, cmp_ge CmpGe, cmp_eq CmpEq);
     #[inline(always)]
     fn and(a: wide::f32x8, b: wide::f32x8) -> wide::f32x8 {
         a & b

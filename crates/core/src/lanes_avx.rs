@@ -90,7 +90,7 @@ impl Real for F8Avx {
             F8Avx(_mm256_or_ps(_mm256_andnot_ps(bit, self.0), _mm256_and_ps(bit, sign.0)))
         }
     }
-    comparisons!(cmp_lt _CMP_LT_OQ, cmp_le _CMP_LE_OQ, cmp_gt _CMP_GT_OQ, cmp_eq _CMP_EQ_OQ);
+    comparisons!(cmp_lt _CMP_LT_OQ, cmp_le _CMP_LE_OQ, cmp_gt _CMP_GT_OQ, cmp_ge _CMP_GE_OQ, cmp_eq _CMP_EQ_OQ);
     #[inline(always)]
     fn and(a: __m256, b: __m256) -> __m256 {
         // SAFETY: see the module's note.
@@ -250,6 +250,7 @@ mod tests {
                 (F8::bits(pa.cmp_lt(pb)), F8Avx::bits(xa.cmp_lt(xb))),
                 (F8::bits(pa.cmp_le(pb)), F8Avx::bits(xa.cmp_le(xb))),
                 (F8::bits(pa.cmp_gt(pb)), F8Avx::bits(xa.cmp_gt(xb))),
+                (F8::bits(pa.cmp_ge(pb)), F8Avx::bits(xa.cmp_ge(xb))),
                 (F8::bits(pa.cmp_eq(pb)), F8Avx::bits(xa.cmp_eq(xb))),
                 (
                     F8::bits(F8::and(pa.cmp_lt(pb), F8::not(pa.cmp_eq(pa)))),

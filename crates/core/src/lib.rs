@@ -17,6 +17,7 @@ pub mod samplers;
 pub mod simd;
 pub mod spherical;
 pub mod transform;
+pub mod trig;
 pub mod warp;
 
 pub use bounds::Aabb;

@@ -103,8 +103,8 @@ pub fn phong_lobe_pdf(w: Vec3, exponent: f32) -> f32 {
 /// give uniform solid angle (Archimedes' hat-box theorem).
 fn at_height(z: f32, u_phi: f32) -> Vec3 {
     let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * PI * u_phi;
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    let (sin, cos) = crate::trig::sin_cos_turns(u_phi);
+    Vec3::new(r * cos, r * sin, z)
 }
 
 /// Density of [`uniform_cone`] at `w`: 1 / (2π (1 - cos_max)) inside the cone, else zero.

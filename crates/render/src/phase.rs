@@ -3,7 +3,7 @@
 //! on is `wi = -wo`.
 
 use glam::{Vec2, Vec3};
-use penumbra_core::Frame;
+use penumbra_core::{trig, Frame};
 use std::f32::consts::PI;
 
 /// Henyey and Greenstein's phase function ("Diffuse radiation in the galaxy", ApJ 93,
@@ -40,8 +40,8 @@ impl HenyeyGreenstein {
         }
         .clamp(-1.0, 1.0);
         let sin = (1.0 - cos * cos).max(0.0).sqrt();
-        let phi = 2.0 * PI * u.y;
-        let local = Vec3::new(sin * phi.cos(), sin * phi.sin(), cos);
+        let (sin_phi, cos_phi) = trig::sin_cos_turns(u.y);
+        let local = Vec3::new(sin * cos_phi, sin * sin_phi, cos);
         let wi = Frame::from_normal(wo).to_world(local);
         (wi, hg(cos, g))
     }

@@ -7,7 +7,7 @@
 use super::{ShapeHit, ShapeSurface};
 use crate::Placement;
 use glam::{Vec2, Vec3};
-use penumbra_core::{Aabb, Ray, Transform};
+use penumbra_core::{trig, Aabb, Ray, Transform};
 use std::f32::consts::PI;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -62,9 +62,9 @@ impl Sphere {
         // Re-project onto the sphere to remove the error of `origin + t * dir`.
         let local = r.at(t).normalize();
         // Texture coordinates: longitude about the object's y axis, latitude from +y.
-        let phi = local.z.atan2(local.x);
+        let phi = trig::atan2(local.z, local.x);
         let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
-        let theta = local.y.clamp(-1.0, 1.0).acos();
+        let theta = trig::acos(local.y.clamp(-1.0, 1.0));
         ShapeSurface {
             p: self.placement.point_to_world(local),
             n: self.placement.normal_to_world(local),

@@ -4,6 +4,7 @@
 //! Heitz 2014 ("Understanding the Masking-Shadowing Function") for G2.
 
 use glam::{Vec2, Vec3};
+use penumbra_core::trig;
 use std::f32::consts::PI;
 
 /// Roughness below this is treated as a perfectly smooth surface (as pbrt-v4 does): the
@@ -70,10 +71,10 @@ impl Ggx {
         let t2 = vh.cross(t1);
         // A point on the projected disk, warped to the visible half.
         let r = u.x.sqrt();
-        let phi = 2.0 * PI * u.y;
-        let p1 = r * phi.cos();
+        let (sin_phi, cos_phi) = trig::sin_cos_turns(u.y);
+        let p1 = r * cos_phi;
         let s = 0.5 * (1.0 + vh.z);
-        let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
+        let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * sin_phi;
         let nh = p1 * t1 + p2 * t2 + (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt() * vh;
         // Back to the ellipsoid configuration.
         Vec3::new(self.ax * nh.x, self.ay * nh.y, nh.z.max(1e-6)).normalize()

@@ -11,7 +11,7 @@
 use super::{disk_origin, disk_pdf, EmissionSample, LightSample, SceneSphere};
 use crate::texture::TextureImage;
 use glam::{Mat3, Vec2, Vec3};
-use penumbra_core::{warp, Distribution2D, Ray, Rgb};
+use penumbra_core::{trig, warp, Distribution2D, Ray, Rgb};
 use std::f32::consts::PI;
 
 /// What the map holds for a direction (see [`Environment::lookup`]): its radiance and
@@ -130,18 +130,19 @@ impl Environment {
     /// (u, v) in the map of the world direction `d`, and sin θ there.
     fn map_coordinates(&self, d: Vec3) -> (Vec2, f32) {
         let d = (self.to_local * d).normalize();
-        let phi = d.x.atan2(-d.z);
+        let phi = trig::atan2(d.x, -d.z);
         let u = (phi / (2.0 * PI)).rem_euclid(1.0);
-        let v = d.y.clamp(-1.0, 1.0).acos() / PI;
-        // (sin θ from x and z: accurate near the poles, where 1 - y² is not.)
-        (Vec2::new(u.min(1.0 - f32::EPSILON), v), d.x.hypot(d.z))
+        // θ and sin θ from x and z besides y: accurate near the poles, where 1 - y² is not.
+        let sin_theta = (d.x * d.x + d.z * d.z).sqrt();
+        let v = trig::atan2(sin_theta, d.y) / PI;
+        (Vec2::new(u.min(1.0 - f32::EPSILON), v.min(1.0)), sin_theta)
     }
 
     /// The world direction of map point (u, v), and sin θ there.
     fn direction(&self, uv: Vec2) -> (Vec3, f32) {
-        let (phi, theta) = (2.0 * PI * uv.x, PI * uv.y);
-        let sin_theta = theta.sin();
-        let local = Vec3::new(phi.sin() * sin_theta, theta.cos(), -phi.cos() * sin_theta);
+        let (sin_phi, cos_phi) = trig::sin_cos_turns(uv.x);
+        let (sin_theta, cos_theta) = trig::sin_cos_turns(0.5 * uv.y);
+        let local = Vec3::new(sin_phi * sin_theta, cos_theta, -cos_phi * sin_theta);
         (self.to_world * local, sin_theta)
     }
 
