@@ -325,6 +325,12 @@ impl<R: Real> V3<R> {
         V3::new(self.x / s, self.y / s, self.z / s)
     }
 
+    /// Every component `v`.
+    #[inline(always)]
+    pub fn splat(v: f32) -> Self {
+        V3::new(R::splat(v), R::splat(v), R::splat(v))
+    }
+
     /// Per lane: `t` where `mask` holds, else `f`.
     #[inline(always)]
     pub fn select(mask: R::Mask, t: Self, f: Self) -> Self {
@@ -371,6 +377,21 @@ impl From<V3<f32>> for glam::Vec3 {
     #[inline(always)]
     fn from(v: V3<f32>) -> Self {
         glam::Vec3::new(v.x, v.y, v.z)
+    }
+}
+
+impl From<crate::Rgb> for V3<f32> {
+    /// A colour's channels as (x, y, z): lane-generic shading carries colours as `V3`.
+    #[inline(always)]
+    fn from(c: crate::Rgb) -> Self {
+        V3::new(c.r, c.g, c.b)
+    }
+}
+
+impl From<V3<f32>> for crate::Rgb {
+    #[inline(always)]
+    fn from(v: V3<f32>) -> Self {
+        crate::Rgb::new(v.x, v.y, v.z)
     }
 }
 

@@ -4,6 +4,7 @@
 //! incident direction; `eta` is the relative index `n_t / n_i` (transmitted over incident).
 
 use glam::Vec3;
+use penumbra_core::lanes::Real;
 
 /// Mirror reflection of `wo` about `n`.
 pub fn reflect(wo: Vec3, n: Vec3) -> Vec3 {
@@ -38,25 +39,31 @@ pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
 
 /// Unpolarised Fresnel reflectance of a conductor of complex relative index `eta + i k`
 /// for incidence cosine `cos_i` (the exact equations, as in pbrt-v3's `FrConductor` and
-/// Mitsuba's `fresnel_conductor`).
-pub fn fresnel_conductor(cos_i: f32, eta: f32, k: f32) -> f32 {
-    let cos2 = cos_i.clamp(0.0, 1.0).powi(2);
-    let sin2 = 1.0 - cos2;
+/// Mitsuba's `fresnel_conductor`); written over [`Real`], for one path or for lanes.
+#[inline(always)]
+pub fn fresnel_conductor<R: Real>(cos_i: R, eta: R, k: R) -> R {
+    let c = R::splat;
+    let cos = clamp_unit(cos_i);
+    let cos2 = cos * cos;
+    let sin2 = c(1.0) - cos2;
     let t0 = eta * eta - k * k - sin2;
-    let a2_plus_b2 = (t0 * t0 + 4.0 * eta * eta * k * k).max(0.0).sqrt();
-    let a = (0.5 * (a2_plus_b2 + t0)).max(0.0).sqrt();
+    let a2_plus_b2 = (t0 * t0 + c(4.0) * eta * eta * k * k).max(c(0.0)).sqrt();
+    let a = (c(0.5) * (a2_plus_b2 + t0)).max(c(0.0)).sqrt();
     let t1 = a2_plus_b2 + cos2;
-    let t2 = 2.0 * a * cos2.sqrt();
+    let t2 = c(2.0) * a * cos2.sqrt();
     let rs = (t1 - t2) / (t1 + t2);
     let t3 = a2_plus_b2 * cos2 + sin2 * sin2;
     let t4 = t2 * sin2;
     let rp = rs * (t3 - t4) / (t3 + t4);
-    let r = 0.5 * (rs + rp);
-    if r.is_finite() {
-        r.clamp(0.0, 1.0)
-    } else {
-        1.0
-    }
+    let r = c(0.5) * (rs + rp);
+    R::select(r.abs().cmp_lt(c(f32::INFINITY)), clamp_unit(r), c(1.0))
+}
+
+/// `x` clamped to [0, 1] (NaN stays NaN, as `f32::clamp` leaves it).
+#[inline(always)]
+pub fn clamp_unit<R: Real>(x: R) -> R {
+    let (zero, one) = (R::splat(0.0), R::splat(1.0));
+    R::select(x.cmp_lt(zero), zero, R::select(x.cmp_gt(one), one, x))
 }
 
 /// Hemispherical average of the dielectric Fresnel reflectance, 2 ∫ F(μ, η) μ dμ: the

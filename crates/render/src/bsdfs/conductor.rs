@@ -6,11 +6,16 @@
 //! glTF's metals give their reflectance at normal incidence instead of an index: their F
 //! is Schlick's approximation (Schlick 1994, eq. 24), as the glTF 2.0 specification's
 //! appendix B defines it.
+//!
+//! The arithmetic is written once, over the lane type ([`ConductorLanes`]): the scalar
+//! [`Conductor`] is its one-lane instance, and eight conductors shade in one pass of
+//! eight-lane instructions with the same floats per lane.
 
 use super::microfacet::Ggx;
-use super::{reflect_z, BsdfModel, BsdfSample, SpecularRays, TransportMode};
-use crate::optics::fresnel_conductor;
+use super::{BsdfModel, BsdfSample, LaneSample, SpecularRays, TransportMode};
+use crate::optics::{clamp_unit, fresnel_conductor};
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Real, V3};
 use penumbra_core::Rgb;
 
 /// How a metal's reflectance varies with the angle of incidence.
@@ -31,66 +36,113 @@ pub struct Conductor {
     pub alpha: Option<Ggx>,
 }
 
+/// A conductor in lanes of any [`Real`] type: each lane its own metal, roughness and
+/// Fresnel form.
+#[derive(Clone, Copy, Debug)]
+pub struct ConductorLanes<R: Real> {
+    pub eta: V3<R>,
+    pub k: V3<R>,
+    /// Lanes with Schlick's Fresnel term (`eta` and `k` unused there).
+    pub schlick: R::Mask,
+    pub specular: V3<R>,
+    /// The microfacet distribution (any positive roughness where `rough` does not hold).
+    pub ggx: Ggx<R>,
+    pub rough: R::Mask,
+}
+
 impl Conductor {
+    /// The one-lane instance of the conductor's arithmetic.
+    #[inline(always)]
+    pub fn lanes(&self) -> ConductorLanes<f32> {
+        let (eta, k, schlick) = match self.fresnel {
+            MetalFresnel::Complex { eta, k } => (eta, k, false),
+            MetalFresnel::Schlick => (Rgb::WHITE, Rgb::BLACK, true),
+        };
+        ConductorLanes {
+            eta: eta.into(),
+            k: k.into(),
+            schlick,
+            specular: self.specular.into(),
+            ggx: self.alpha.unwrap_or(Ggx { ax: 1.0, ay: 1.0 }),
+            rough: self.alpha.is_some(),
+        }
+    }
+
     /// F(cos) per channel, tinted by `specular`.
     pub(crate) fn fresnel(&self, cos: f32) -> Rgb {
-        match self.fresnel {
-            MetalFresnel::Complex { eta, k } => {
-                Rgb::new(
-                    fresnel_conductor(cos, eta.r, k.r),
-                    fresnel_conductor(cos, eta.g, k.g),
-                    fresnel_conductor(cos, eta.b, k.b),
-                ) * self.specular
-            }
-            MetalFresnel::Schlick => {
-                let f0 = self.specular;
-                f0 + (Rgb::WHITE - f0) * (1.0 - cos.clamp(0.0, 1.0)).powi(5)
-            }
+        self.lanes().fresnel(cos).into()
+    }
+}
+
+impl<R: Real> ConductorLanes<R> {
+    /// F(cos) per channel, tinted by `specular`.
+    #[inline(always)]
+    pub fn fresnel(&self, cos: R) -> V3<R> {
+        let exact = V3::new(
+            fresnel_conductor(cos, self.eta.x, self.k.x),
+            fresnel_conductor(cos, self.eta.y, self.k.y),
+            fresnel_conductor(cos, self.eta.z, self.k.z),
+        )
+        .mul_each(self.specular);
+        let f0 = self.specular;
+        let x = R::splat(1.0) - clamp_unit(cos);
+        let x2 = x * x;
+        let schlick = f0 + (V3::splat(1.0) - f0).scale(x2 * x2 * x);
+        V3::select(self.schlick, schlick, exact)
+    }
+
+    /// f(wo, wi) of the rough part, without the cosine.
+    #[inline(always)]
+    pub fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
+        let (m, ok) = Ggx::half_vector_lanes(wo, wi);
+        let f = self.fresnel(wo.dot(m)).scale(self.ggx.reflection(wo, wi, m));
+        V3::select(R::and(ok, self.rough), f, V3::splat(0.0))
+    }
+
+    /// Density with which [`ConductorLanes::sample`] gives the rough direction `wi`.
+    #[inline(always)]
+    pub fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
+        let (m, ok) = Ggx::half_vector_lanes(wo, wi);
+        R::select(R::and(ok, self.rough), self.ggx.reflection_pdf(wo, m), R::splat(0.0))
+    }
+
+    /// A reflected direction: mirror (delta) lanes where the metal is smooth, visible
+    /// normals elsewhere.
+    #[inline(always)]
+    pub fn sample(&self, wo: V3<R>, u: (R, R)) -> LaneSample<R> {
+        let (zero, one) = (R::splat(0.0), R::splat(1.0));
+        let (wi, m, ok) = self.ggx.sample_reflection_lanes(wo, u);
+        let weight = self.fresnel(wo.dot(m)).scale(self.ggx.g2(wo, wi) / self.ggx.g1(wo));
+        let pdf = self.ggx.reflection_pdf(wo, m);
+        let mirror = V3::new(-wo.x, -wo.y, wo.z);
+        let smooth = R::not(self.rough);
+        LaneSample {
+            wi: V3::select(smooth, mirror, wi),
+            weight: V3::select(smooth, self.fresnel(wo.z), weight),
+            pdf: R::select(smooth, one, pdf),
+            delta: smooth,
+            eta: one,
+            ok: R::and(wo.z.cmp_gt(zero), R::or(smooth, ok)),
         }
     }
 }
 
 impl BsdfModel for Conductor {
     fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Rgb {
-        match (self.alpha, Ggx::reflection_half_vector(wo, wi)) {
-            (Some(ggx), Some(m)) => self.fresnel(wo.dot(m)) * ggx.reflection(wo, wi, m),
-            _ => Rgb::BLACK,
-        }
+        self.lanes().eval(wo.into(), wi.into()).into()
     }
 
     fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {
-        match (self.alpha, Ggx::reflection_half_vector(wo, wi)) {
-            (Some(ggx), Some(m)) => ggx.reflection_pdf(wo, m),
-            _ => 0.0,
-        }
+        self.lanes().pdf(wo.into(), wi.into())
     }
 
     fn sample(&self, wo: Vec3, _u: f32, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
-        if wo.z <= 0.0 {
-            return None;
-        }
-        let Some(ggx) = self.alpha else {
-            return Some(BsdfSample {
-                wi: reflect_z(wo),
-                weight: self.fresnel(wo.z),
-                pdf: 1.0,
-                delta: true,
-                eta: 1.0,
-            });
-        };
-        let (wi, m) = ggx.sample_reflection(wo, u)?;
-        Some(BsdfSample {
-            wi,
-            weight: self.fresnel(wo.dot(m)) * (ggx.g2(wo, wi) / ggx.g1(wo)),
-            pdf: ggx.reflection_pdf(wo, m),
-            delta: false,
-            eta: 1.0,
-        })
+        self.lanes().sample(wo.into(), u.into()).one()
     }
 
     fn specular_rays(&self, wo: Vec3, _mode: TransportMode, rays: &mut SpecularRays) {
         if self.alpha.is_none() && wo.z > 0.0 {
-            rays.push(reflect_z(wo), self.fresnel(wo.z));
+            rays.push(super::reflect_z(wo), self.fresnel(wo.z));
         }
     }
 

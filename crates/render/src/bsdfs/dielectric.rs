@@ -131,7 +131,7 @@ impl Dielectric {
                     }),
             };
         };
-        let m = ggx.sample_visible(wo, u2);
+        let m = Vec3::from(ggx.sample_visible(wo, u2.into()));
         let c = wo.dot(m);
         let eta_rel = relative_eta(self.eta, c);
         let (wi, eta) = match lobe {
@@ -208,7 +208,7 @@ impl BsdfModel for Dielectric {
         let Some(ggx) = self.rough() else {
             return self.sample_smooth(wo, u, mode);
         };
-        let m = ggx.sample_visible(wo, u2);
+        let m = Vec3::from(ggx.sample_visible(wo, u2.into()));
         let c = wo.dot(m);
         let eta_rel = relative_eta(self.eta, c);
         let f = fresnel_dielectric(c.abs(), eta_rel);

@@ -16,6 +16,8 @@ mod blend;
 mod conductor;
 mod dielectric;
 mod diffuse;
+#[cfg(test)]
+mod lanes_tests;
 mod layered;
 pub mod microfacet;
 mod phong;
@@ -26,7 +28,7 @@ mod tests;
 mod tests_table;
 
 pub use blend::Blend;
-pub use conductor::{Conductor, MetalFresnel};
+pub use conductor::{Conductor, ConductorLanes, MetalFresnel};
 pub use dielectric::{Dielectric, Lobe};
 pub use diffuse::Diffuse;
 pub use layered::{LayerBase, Layered};
@@ -34,6 +36,7 @@ pub use phong::PhongBsdf;
 pub use plastic::{Coating, Plastic};
 
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Real, V3};
 use penumbra_core::Rgb;
 
 /// Which quantity a path carries: radiance from the camera's side, or importance from the
@@ -67,6 +70,31 @@ pub struct BsdfSample {
     pub delta: bool,
     /// Relative index of refraction η_t / η_i crossed (1 for reflection).
     pub eta: f32,
+}
+
+/// [`BsdfSample`] in lanes of any [`Real`] type, with the lanes where a sample exists.
+#[derive(Clone, Copy, Debug)]
+pub struct LaneSample<R: Real> {
+    pub wi: V3<R>,
+    pub weight: V3<R>,
+    pub pdf: R,
+    pub delta: R::Mask,
+    pub eta: R,
+    pub ok: R::Mask,
+}
+
+impl LaneSample<f32> {
+    /// The one lane's sample, if it exists.
+    #[inline(always)]
+    pub fn one(self) -> Option<BsdfSample> {
+        self.ok.then(|| BsdfSample {
+            wi: self.wi.into(),
+            weight: self.weight.into(),
+            pdf: self.pdf,
+            delta: self.delta,
+            eta: self.eta,
+        })
+    }
 }
 
 /// A perfectly specular direction and its weight f |cos θi| (per unit of delta).

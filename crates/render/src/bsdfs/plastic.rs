@@ -103,7 +103,7 @@ fn lobe_albedo(ggx: Ggx, mu: f32, eta: f32) -> f32 {
 /// (Mitsuba 3's `eval_transmittance`).
 fn lobe_transmittance(ggx: Ggx, mu: f32, eta: f32) -> f32 {
     over_sample_space(mu, |wo, u| {
-        let m = ggx.sample_visible(wo, u);
+        let m = Vec3::from(ggx.sample_visible(wo, u.into()));
         let cos = wo.dot(m);
         match crate::optics::refract(wo, m, eta) {
             Some(wt) if wt.z < 0.0 && cos > 0.0 => (1.0 - fresnel_dielectric(cos, eta)) * ggx.g1(wt),

@@ -1,0 +1,105 @@
+//! The lane kernels against their one-lane instances: eight different BSDFs of a kind in
+//! eight lanes give, lane by lane, the bits the scalar BSDF gives for the same inputs
+//! (sample, eval and pdf), including lanes where no sample exists.
+
+use super::microfacet::Ggx;
+use super::*;
+use penumbra_core::lanes::{Lane8, F8};
+use penumbra_core::Pcg32;
+
+/// A direction on the sphere from two uniforms, some of them below the surface.
+fn direction(rng: &mut Pcg32) -> Vec3 {
+    penumbra_core::warp::uniform_sphere(Vec2::new(rng.next_f32(), rng.next_f32()))
+}
+
+fn lanes_of(v: [Vec3; 8]) -> V3<F8> {
+    V3::from_lanes(&v)
+}
+
+fn f8(a: [f32; 8]) -> F8 {
+    F8::from_array(a)
+}
+
+/// Eight conductors: smooth and rough, anisotropic, exact and Schlick Fresnel terms.
+fn conductors(rng: &mut Pcg32) -> [Conductor; 8] {
+    std::array::from_fn(|k| {
+        let c = |rng: &mut Pcg32| Rgb::new(rng.next_f32() * 3.0, rng.next_f32() * 3.0, rng.next_f32() * 3.0);
+        let fresnel = if k % 3 == 2 {
+            MetalFresnel::Schlick
+        } else {
+            MetalFresnel::Complex { eta: c(rng), k: c(rng) }
+        };
+        let alpha = (k % 4 != 0)
+            .then(|| Ggx::new(rng.next_f32() * 0.8, rng.next_f32() * 0.8))
+            .flatten();
+        Conductor {
+            fresnel,
+            specular: Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()),
+            alpha,
+        }
+    })
+}
+
+/// The conductors' parameters gathered into eight lanes.
+fn conductor_lanes(cs: &[Conductor; 8]) -> ConductorLanes<F8> {
+    let one = cs.map(|c| c.lanes());
+    let column = |f: &dyn Fn(&ConductorLanes<f32>) -> V3<f32>| lanes_of(one.map(|l| f(&l).into()));
+    ConductorLanes {
+        eta: column(&|l| l.eta),
+        k: column(&|l| l.k),
+        schlick: F8::mask(one.map(|l| l.schlick)),
+        specular: column(&|l| l.specular),
+        ggx: Ggx {
+            ax: f8(one.map(|l| l.ggx.ax)),
+            ay: f8(one.map(|l| l.ggx.ay)),
+        },
+        rough: F8::mask(one.map(|l| l.rough)),
+    }
+}
+
+fn bits(v: Vec3) -> [u32; 3] {
+    [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]
+}
+
+#[test]
+fn conductor_lanes_equal_the_scalar_conductor_bit_for_bit() {
+    let mut rng = Pcg32::new(11, 5);
+    let mode = TransportMode::Radiance;
+    let mut samples = 0;
+    for _ in 0..2_000 {
+        let cs = conductors(&mut rng);
+        let lanes = conductor_lanes(&cs);
+        let wo: [Vec3; 8] = std::array::from_fn(|_| direction(&mut rng));
+        let wi: [Vec3; 8] = std::array::from_fn(|_| direction(&mut rng));
+        let u: [Vec2; 8] = std::array::from_fn(|_| Vec2::new(rng.next_f32(), rng.next_f32()));
+        let (lwo, lwi) = (lanes_of(wo), lanes_of(wi));
+        let eval = lanes.eval(lwo, lwi).to_lanes();
+        let pdf = lanes.pdf(lwo, lwi).to_array();
+        let s = lanes.sample(lwo, (f8(u.map(|u| u.x)), f8(u.map(|u| u.y))));
+        let (ok, delta) = (F8::mask_bits(s.ok), F8::mask_bits(s.delta));
+        let (swi, sweight, spdf) = (s.wi.to_lanes(), s.weight.to_lanes(), s.pdf.to_array());
+        for k in 0..8 {
+            let c = &cs[k];
+            let e: Vec3 = Into::<V3<f32>>::into(c.eval(wo[k], wi[k], mode)).into();
+            assert_eq!(bits(eval[k]), bits(e), "eval, lane {k}: {c:?}");
+            assert_eq!(pdf[k].to_bits(), c.pdf(wo[k], wi[k], mode).to_bits(), "pdf, lane {k}");
+            let one = c.sample(wo[k], 0.5, u[k], mode);
+            assert_eq!(
+                ok >> k & 1 != 0,
+                one.is_some(),
+                "sample exists, lane {k}: {c:?} {:?}",
+                wo[k]
+            );
+            if let Some(one) = one {
+                samples += 1;
+                assert_eq!(bits(swi[k]), bits(one.wi), "sampled direction, lane {k}");
+                let w = Vec3::new(one.weight.r, one.weight.g, one.weight.b);
+                assert_eq!(bits(sweight[k]), bits(w), "sample weight, lane {k}");
+                assert_eq!(spdf[k].to_bits(), one.pdf.to_bits(), "sample density, lane {k}");
+                assert_eq!(delta >> k & 1 != 0, one.delta, "delta, lane {k}");
+            }
+        }
+    }
+    // About half the views are above the surface, and most of their samples exist.
+    assert!(samples > 4_000, "only {samples} samples existed");
+}
