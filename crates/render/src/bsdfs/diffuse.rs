@@ -1,8 +1,13 @@
 //! Lambertian reflection: f = ρ / π on the front side, sampled by the cosine-weighted
 //! hemisphere (Malley's method), so that the weight f cos θ / pdf is ρ.
+//!
+//! Written once over the lane type ([`DiffuseLanes`]): the scalar [`Diffuse`] is its
+//! one-lane instance, and the path tracer's eight-lane bounce (`diffuse_lanes.rs`) calls
+//! the same routines.
 
-use super::{same_hemisphere, BsdfModel, BsdfSample, TransportMode};
+use super::{BsdfModel, BsdfSample, LaneSample, TransportMode};
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Real, V3};
 use penumbra_core::{warp, Rgb};
 use std::f32::consts::FRAC_1_PI;
 
@@ -11,36 +16,67 @@ pub struct Diffuse {
     pub reflectance: Rgb,
 }
 
-impl BsdfModel for Diffuse {
-    fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Rgb {
-        if wo.z > 0.0 && wi.z > 0.0 {
-            self.reflectance * FRAC_1_PI
-        } else {
-            Rgb::BLACK
+/// A Lambertian surface in lanes of any [`Real`] type.
+#[derive(Clone, Copy, Debug)]
+pub struct DiffuseLanes<R: Real> {
+    pub reflectance: V3<R>,
+}
+
+impl Diffuse {
+    /// The one-lane instance of the arithmetic.
+    #[inline(always)]
+    pub fn lanes(&self) -> DiffuseLanes<f32> {
+        DiffuseLanes {
+            reflectance: self.reflectance.into(),
         }
     }
+}
 
-    fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {
-        if wo.z > 0.0 && same_hemisphere(wo, wi) {
-            warp::cosine_hemisphere_pdf(wi)
-        } else {
-            0.0
-        }
+impl<R: Real> DiffuseLanes<R> {
+    /// f(wo, wi): ρ / π where both directions are above the surface.
+    #[inline(always)]
+    pub fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
+        let zero = R::splat(0.0);
+        let front = R::and(wo.z.cmp_gt(zero), wi.z.cmp_gt(zero));
+        V3::select(front, self.reflectance.scale(R::splat(FRAC_1_PI)), V3::splat(0.0))
     }
 
-    fn sample(&self, wo: Vec3, _u: f32, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
-        if wo.z <= 0.0 {
-            return None;
-        }
-        let wi = warp::cosine_hemisphere(u);
-        let pdf = warp::cosine_hemisphere_pdf(wi);
-        (pdf > 0.0).then_some(BsdfSample {
+    /// The cosine-weighted density of `wi`, where `wo` is above the surface.
+    #[inline(always)]
+    pub fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
+        let zero = R::splat(0.0);
+        let same_side = R::and(wo.z.cmp_gt(zero), (wo.z * wi.z).cmp_gt(zero));
+        R::select(same_side, wi.z.max(zero) * R::splat(FRAC_1_PI), zero)
+    }
+
+    /// A cosine-weighted direction (none where `wo` is below the surface).
+    #[inline(always)]
+    pub fn sample(&self, wo: V3<R>, u: (R, R)) -> LaneSample<R> {
+        let zero = R::splat(0.0);
+        let wi = warp::cosine_hemisphere_lanes(u.0, u.1);
+        let pdf = wi.z.max(zero) * R::splat(FRAC_1_PI);
+        LaneSample {
             wi,
             weight: self.reflectance,
             pdf,
-            delta: false,
-            eta: 1.0,
-        })
+            delta: zero.cmp_lt(zero),
+            eta: R::splat(1.0),
+            ok: R::and(R::not(wo.z.cmp_le(zero)), pdf.cmp_gt(zero)),
+        }
+    }
+}
+
+impl BsdfModel for Diffuse {
+    fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Rgb {
+        self.lanes().eval(wo.into(), wi.into()).into()
+    }
+
+    fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {
+        self.lanes().pdf(wo.into(), wi.into())
+    }
+
+    fn sample(&self, wo: Vec3, _u: f32, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
+        self.lanes().sample(wo.into(), u.into()).one()
     }
 
     fn has_smooth(&self) -> bool {

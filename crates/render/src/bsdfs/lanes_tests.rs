@@ -61,45 +61,79 @@ fn bits(v: Vec3) -> [u32; 3] {
     [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]
 }
 
+/// What a lane kernel gives for eight (wo, wi, u): eval, pdf and a sample.
+type LaneResults = (V3<F8>, F8, LaneSample<F8>);
+
+/// Runs `lanes` on random inputs for the eight scalar BSDFs `scalar` and compares every
+/// lane with the scalar BSDF's own answer; the number of samples that existed.
+fn compare(
+    rng: &mut Pcg32,
+    scalar: &[&dyn BsdfModel; 8],
+    lanes: impl Fn(V3<F8>, V3<F8>, (F8, F8)) -> LaneResults,
+) -> usize {
+    let mode = TransportMode::Radiance;
+    let wo: [Vec3; 8] = std::array::from_fn(|_| direction(rng));
+    let wi: [Vec3; 8] = std::array::from_fn(|_| direction(rng));
+    let u: [Vec2; 8] = std::array::from_fn(|_| Vec2::new(rng.next_f32(), rng.next_f32()));
+    let (eval, pdf, s) = lanes(lanes_of(wo), lanes_of(wi), (f8(u.map(|u| u.x)), f8(u.map(|u| u.y))));
+    let (eval, pdf) = (eval.to_lanes(), pdf.to_array());
+    let (ok, delta) = (F8::mask_bits(s.ok), F8::mask_bits(s.delta));
+    let (swi, sweight, spdf) = (s.wi.to_lanes(), s.weight.to_lanes(), s.pdf.to_array());
+    let mut samples = 0;
+    for k in 0..8 {
+        let c = scalar[k];
+        let e: Vec3 = Into::<V3<f32>>::into(c.eval(wo[k], wi[k], mode)).into();
+        assert_eq!(bits(eval[k]), bits(e), "eval, lane {k}");
+        assert_eq!(pdf[k].to_bits(), c.pdf(wo[k], wi[k], mode).to_bits(), "pdf, lane {k}");
+        let one = c.sample(wo[k], 0.5, u[k], mode);
+        assert_eq!(ok >> k & 1 != 0, one.is_some(), "sample exists, lane {k}: {:?}", wo[k]);
+        if let Some(one) = one {
+            samples += 1;
+            assert_eq!(bits(swi[k]), bits(one.wi), "sampled direction, lane {k}");
+            let w = Vec3::new(one.weight.r, one.weight.g, one.weight.b);
+            assert_eq!(bits(sweight[k]), bits(w), "sample weight, lane {k}");
+            assert_eq!(spdf[k].to_bits(), one.pdf.to_bits(), "sample density, lane {k}");
+            assert_eq!(delta >> k & 1 != 0, one.delta, "delta, lane {k}");
+        }
+    }
+    samples
+}
+
+// About half the views are above the surface, and most of their samples exist: 2,000
+// rounds of eight lanes give some 7,000 samples to compare.
+const ROUNDS: usize = 2_000;
+const AT_LEAST: usize = 4_000;
+
 #[test]
 fn conductor_lanes_equal_the_scalar_conductor_bit_for_bit() {
     let mut rng = Pcg32::new(11, 5);
-    let mode = TransportMode::Radiance;
     let mut samples = 0;
-    for _ in 0..2_000 {
+    for _ in 0..ROUNDS {
         let cs = conductors(&mut rng);
         let lanes = conductor_lanes(&cs);
-        let wo: [Vec3; 8] = std::array::from_fn(|_| direction(&mut rng));
-        let wi: [Vec3; 8] = std::array::from_fn(|_| direction(&mut rng));
-        let u: [Vec2; 8] = std::array::from_fn(|_| Vec2::new(rng.next_f32(), rng.next_f32()));
-        let (lwo, lwi) = (lanes_of(wo), lanes_of(wi));
-        let eval = lanes.eval(lwo, lwi).to_lanes();
-        let pdf = lanes.pdf(lwo, lwi).to_array();
-        let s = lanes.sample(lwo, (f8(u.map(|u| u.x)), f8(u.map(|u| u.y))));
-        let (ok, delta) = (F8::mask_bits(s.ok), F8::mask_bits(s.delta));
-        let (swi, sweight, spdf) = (s.wi.to_lanes(), s.weight.to_lanes(), s.pdf.to_array());
-        for k in 0..8 {
-            let c = &cs[k];
-            let e: Vec3 = Into::<V3<f32>>::into(c.eval(wo[k], wi[k], mode)).into();
-            assert_eq!(bits(eval[k]), bits(e), "eval, lane {k}: {c:?}");
-            assert_eq!(pdf[k].to_bits(), c.pdf(wo[k], wi[k], mode).to_bits(), "pdf, lane {k}");
-            let one = c.sample(wo[k], 0.5, u[k], mode);
-            assert_eq!(
-                ok >> k & 1 != 0,
-                one.is_some(),
-                "sample exists, lane {k}: {c:?} {:?}",
-                wo[k]
-            );
-            if let Some(one) = one {
-                samples += 1;
-                assert_eq!(bits(swi[k]), bits(one.wi), "sampled direction, lane {k}");
-                let w = Vec3::new(one.weight.r, one.weight.g, one.weight.b);
-                assert_eq!(bits(sweight[k]), bits(w), "sample weight, lane {k}");
-                assert_eq!(spdf[k].to_bits(), one.pdf.to_bits(), "sample density, lane {k}");
-                assert_eq!(delta >> k & 1 != 0, one.delta, "delta, lane {k}");
-            }
-        }
+        let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &cs[k] as &dyn BsdfModel);
+        samples += compare(&mut rng, &scalar, |wo, wi, u| {
+            (lanes.eval(wo, wi), lanes.pdf(wo, wi), lanes.sample(wo, u))
+        });
     }
-    // About half the views are above the surface, and most of their samples exist.
-    assert!(samples > 4_000, "only {samples} samples existed");
+    assert!(samples > AT_LEAST, "only {samples} samples existed");
+}
+
+#[test]
+fn diffuse_lanes_equal_the_scalar_diffuse_bit_for_bit() {
+    let mut rng = Pcg32::new(12, 5);
+    let mut samples = 0;
+    for _ in 0..ROUNDS {
+        let ds: [Diffuse; 8] = std::array::from_fn(|_| Diffuse {
+            reflectance: Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()),
+        });
+        let lanes = DiffuseLanes {
+            reflectance: lanes_of(ds.map(|d| Vec3::new(d.reflectance.r, d.reflectance.g, d.reflectance.b))),
+        };
+        let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &ds[k] as &dyn BsdfModel);
+        samples += compare(&mut rng, &scalar, |wo, wi, u| {
+            (lanes.eval(wo, wi), lanes.pdf(wo, wi), lanes.sample(wo, u))
+        });
+    }
+    assert!(samples > AT_LEAST, "only {samples} samples existed");
 }

@@ -30,7 +30,7 @@ mod tests_table;
 pub use blend::Blend;
 pub use conductor::{Conductor, ConductorLanes, MetalFresnel};
 pub use dielectric::{Dielectric, Lobe};
-pub use diffuse::Diffuse;
+pub use diffuse::{Diffuse, DiffuseLanes};
 pub use layered::{LayerBase, Layered};
 pub use phong::PhongBsdf;
 pub use plastic::{Coating, Plastic};

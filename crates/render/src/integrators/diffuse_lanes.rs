@@ -11,12 +11,12 @@
 //! `diffuse_lanes_equal_the_scalar_bounce` in `tests/path.rs` holds it to that.
 
 use super::{nee, MisHeuristic};
+use crate::bsdfs::DiffuseLanes;
 use crate::lights::emitter::{area_to_solid_angle, triangle_point, SMALL_SOLID_ANGLE};
 use penumbra_core::frame::Basis;
 use penumbra_core::lanes::{Real, V3};
 use penumbra_core::ray::offset_origin_lanes;
-use penumbra_core::warp::{cosine_hemisphere_lanes, uniform_triangle_lanes};
-use std::f32::consts::FRAC_1_PI;
+use penumbra_core::warp::uniform_triangle_lanes;
 
 /// A path at a Lambertian surface.
 #[derive(Clone, Copy)]
@@ -114,10 +114,11 @@ impl<R: Real> Shading<R> {
         nee::origin_towards(self.ng, self.origin, self.p, wi)
     }
 
-    /// The z of a local direction as the (mirrored) BSDF sees it.
+    /// A local direction as the (mirrored) BSDF sees it, and back: z flipped where the
+    /// surface is two-sided and seen from behind.
     #[inline(always)]
-    fn bsdf_z(&self, z: R) -> R {
-        R::select(self.mirrored, -z, z)
+    fn bsdf_dir(&self, w: V3<R>) -> V3<R> {
+        V3::new(w.x, w.y, R::select(self.mirrored, -w.z, w.z))
     }
 }
 
@@ -174,16 +175,17 @@ fn light_sample<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, light: &TriangleLig
     let emits = R::or(light.two_sided, light.normal.dot(-wi).cmp_gt(zero));
     let li = V3::select(emits, light.radiance, V3::new(zero, zero, zero));
 
-    // `nee::light_sample`: the BSDF's value and density towards it, the MIS weight.
+    // `nee::light_sample`: the BSDF's value and density towards it (in the frame the
+    // BSDF sees: mirrored where two-sided from behind), the MIS weight.
     let l = sh.frame.to_local(wi);
-    let (wo_z, l_z) = (sh.bsdf_z(sh.wo.z), sh.bsdf_z(l.z));
-    let front = R::and(wo_z.cmp_gt(zero), l_z.cmp_gt(zero));
-    let black = V3::new(zero, zero, zero);
-    let f_cos = V3::select(front, h.reflectance.scale(R::splat(FRAC_1_PI)), black).scale(l.z.abs());
+    let (bwo, bl) = (sh.bsdf_dir(sh.wo), sh.bsdf_dir(l));
+    let bsdf = DiffuseLanes {
+        reflectance: h.reflectance,
+    };
+    let f_cos = bsdf.eval(bwo, bl).scale(l.z.abs());
     let origin = sh.origin_towards(wi);
     let target = origin + wi.scale(dist);
-    let same_side = R::and(wo_z.cmp_gt(zero), (wo_z * l_z).cmp_gt(zero));
-    let p_bsdf = R::select(same_side, l_z.max(zero) * R::splat(FRAC_1_PI), zero);
+    let p_bsdf = bsdf.pdf(bwo, bl);
     let weight = MisHeuristic::Power.weight_lanes(one * light.p_pick * pdf, one * p_bsdf);
     let value = f_cos.mul_each(li).scale(weight / (light.p_pick * pdf * one));
 
@@ -202,18 +204,18 @@ fn light_sample<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, light: &TriangleLig
 
 #[inline(always)]
 fn continuation<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, u: (R, R)) -> ContinuationOut<R> {
-    let zero = R::splat(0.0);
     // `Diffuse::sample` on the mirrored side, then flipped back.
-    let facing = R::not(sh.bsdf_z(sh.wo.z).cmp_le(zero));
-    let w = cosine_hemisphere_lanes(u.0, u.1);
-    let pdf = w.z.max(zero) * R::splat(FRAC_1_PI);
-    let local = V3::new(w.x, w.y, sh.bsdf_z(w.z));
+    let bsdf = DiffuseLanes {
+        reflectance: h.reflectance,
+    };
+    let s = bsdf.sample(sh.bsdf_dir(sh.wo), u);
+    let local = sh.bsdf_dir(s.wi);
     let wi = sh.frame.to_world(local);
     ContinuationOut {
-        ok: R::and(R::and(facing, pdf.cmp_gt(zero)), sh.agrees(wi, local)),
+        ok: R::and(s.ok, sh.agrees(wi, local)),
         origin: sh.origin_towards(wi),
         dir: wi,
-        pdf,
-        beta: h.beta.mul_each(h.reflectance),
+        pdf: s.pdf,
+        beta: h.beta.mul_each(s.weight),
     }
 }
