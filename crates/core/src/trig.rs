@@ -47,7 +47,7 @@ fn atan_unit<R: Real>(x: R) -> R {
     let far = x.cmp_gt(c(0.414_213_57));
     let x = R::select(far, (x - c(1.0)) / (x + c(1.0)), x);
     let z = x * x;
-    let p = (((c(8.053_744_5e-2) * z - c(1.387_768_6e-1)) * z + c(1.997_771_1e-1)) * z - c(3.333_294_9e-1)) * z * x + x;
+    let p = (((c(8.053_744_5e-2) * z - c(1.387_768_6e-1)) * z + c(1.997_771_1e-1)) * z - c(3.333_295e-1)) * z * x + x;
     R::select(far, c(FRAC_PI_4) + p, p)
 }
 
@@ -73,7 +73,7 @@ pub fn atan2<R: Real>(y: R, x: R) -> R {
 fn asin_half<R: Real>(x: R) -> R {
     let c = R::splat;
     let z = x * x;
-    ((((c(4.216_32e-2) * z + c(2.418_131_1e-2)) * z + c(4.547_002_6e-2)) * z + c(7.495_300_3e-2)) * z
+    ((((c(4.216_32e-2) * z + c(2.418_131e-2)) * z + c(4.547_002_6e-2)) * z + c(7.495_300_3e-2)) * z
         + c(1.666_675_2e-1))
         * z
         * x

@@ -12,7 +12,7 @@
 //! eight-lane instructions with the same floats per lane.
 
 use super::microfacet::Ggx;
-use super::{BsdfModel, BsdfSample, LaneSample, SpecularRays, TransportMode};
+use super::{one_lane_methods, BsdfModel, BsdfSample, LaneKernel, LaneSample, SpecularRays, TransportMode};
 use crate::optics::{clamp_unit, fresnel_conductor};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Real, V3};
@@ -90,10 +90,12 @@ impl<R: Real> ConductorLanes<R> {
         let schlick = f0 + (V3::splat(1.0) - f0).scale(x2 * x2 * x);
         V3::select(self.schlick, schlick, exact)
     }
+}
 
+impl<R: Real> LaneKernel<R> for ConductorLanes<R> {
     /// f(wo, wi) of the rough part, without the cosine.
     #[inline(always)]
-    pub fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
+    fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
         let (m, ok) = Ggx::half_vector_lanes(wo, wi);
         let f = self.fresnel(wo.dot(m)).scale(self.ggx.reflection(wo, wi, m));
         V3::select(R::and(ok, self.rough), f, V3::splat(0.0))
@@ -101,7 +103,7 @@ impl<R: Real> ConductorLanes<R> {
 
     /// Density with which [`ConductorLanes::sample`] gives the rough direction `wi`.
     #[inline(always)]
-    pub fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
+    fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
         let (m, ok) = Ggx::half_vector_lanes(wo, wi);
         R::select(R::and(ok, self.rough), self.ggx.reflection_pdf(wo, m), R::splat(0.0))
     }
@@ -109,7 +111,7 @@ impl<R: Real> ConductorLanes<R> {
     /// A reflected direction: mirror (delta) lanes where the metal is smooth, visible
     /// normals elsewhere.
     #[inline(always)]
-    pub fn sample(&self, wo: V3<R>, u: (R, R)) -> LaneSample<R> {
+    fn sample(&self, wo: V3<R>, u: (R, R)) -> LaneSample<R> {
         let (zero, one) = (R::splat(0.0), R::splat(1.0));
         let (wi, m, ok) = self.ggx.sample_reflection_lanes(wo, u);
         let weight = self.fresnel(wo.dot(m)).scale(self.ggx.g2(wo, wi) / self.ggx.g1(wo));
@@ -128,17 +130,7 @@ impl<R: Real> ConductorLanes<R> {
 }
 
 impl BsdfModel for Conductor {
-    fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Rgb {
-        self.lanes().eval(wo.into(), wi.into()).into()
-    }
-
-    fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {
-        self.lanes().pdf(wo.into(), wi.into())
-    }
-
-    fn sample(&self, wo: Vec3, _u: f32, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
-        self.lanes().sample(wo.into(), u.into()).one()
-    }
+    one_lane_methods!();
 
     fn specular_rays(&self, wo: Vec3, _mode: TransportMode, rays: &mut SpecularRays) {
         if self.alpha.is_none() && wo.z > 0.0 {

@@ -5,7 +5,7 @@
 //! one-lane instance, and the path tracer's eight-lane bounce (`diffuse_lanes.rs`) calls
 //! the same routines.
 
-use super::{BsdfModel, BsdfSample, LaneSample, TransportMode};
+use super::{one_lane_methods, BsdfModel, BsdfSample, LaneKernel, LaneSample, TransportMode};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Real, V3};
 use penumbra_core::{warp, Rgb};
@@ -32,10 +32,10 @@ impl Diffuse {
     }
 }
 
-impl<R: Real> DiffuseLanes<R> {
+impl<R: Real> LaneKernel<R> for DiffuseLanes<R> {
     /// f(wo, wi): ρ / π where both directions are above the surface.
     #[inline(always)]
-    pub fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
+    fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
         let zero = R::splat(0.0);
         let front = R::and(wo.z.cmp_gt(zero), wi.z.cmp_gt(zero));
         V3::select(front, self.reflectance.scale(R::splat(FRAC_1_PI)), V3::splat(0.0))
@@ -43,7 +43,7 @@ impl<R: Real> DiffuseLanes<R> {
 
     /// The cosine-weighted density of `wi`, where `wo` is above the surface.
     #[inline(always)]
-    pub fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
+    fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
         let zero = R::splat(0.0);
         let same_side = R::and(wo.z.cmp_gt(zero), (wo.z * wi.z).cmp_gt(zero));
         R::select(same_side, wi.z.max(zero) * R::splat(FRAC_1_PI), zero)
@@ -51,7 +51,7 @@ impl<R: Real> DiffuseLanes<R> {
 
     /// A cosine-weighted direction (none where `wo` is below the surface).
     #[inline(always)]
-    pub fn sample(&self, wo: V3<R>, u: (R, R)) -> LaneSample<R> {
+    fn sample(&self, wo: V3<R>, u: (R, R)) -> LaneSample<R> {
         let zero = R::splat(0.0);
         let wi = warp::cosine_hemisphere_lanes(u.0, u.1);
         let pdf = wi.z.max(zero) * R::splat(FRAC_1_PI);
@@ -67,17 +67,7 @@ impl<R: Real> DiffuseLanes<R> {
 }
 
 impl BsdfModel for Diffuse {
-    fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Rgb {
-        self.lanes().eval(wo.into(), wi.into()).into()
-    }
-
-    fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {
-        self.lanes().pdf(wo.into(), wi.into())
-    }
-
-    fn sample(&self, wo: Vec3, _u: f32, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
-        self.lanes().sample(wo.into(), u.into()).one()
-    }
+    one_lane_methods!();
 
     fn has_smooth(&self) -> bool {
         !self.reflectance.is_black()

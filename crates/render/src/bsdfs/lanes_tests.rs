@@ -61,22 +61,17 @@ fn bits(v: Vec3) -> [u32; 3] {
     [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]
 }
 
-/// What a lane kernel gives for eight (wo, wi, u): eval, pdf and a sample.
-type LaneResults = (V3<F8>, F8, LaneSample<F8>);
-
-/// Runs `lanes` on random inputs for the eight scalar BSDFs `scalar` and compares every
-/// lane with the scalar BSDF's own answer; the number of samples that existed.
-fn compare(
-    rng: &mut Pcg32,
-    scalar: &[&dyn BsdfModel; 8],
-    lanes: impl Fn(V3<F8>, V3<F8>, (F8, F8)) -> LaneResults,
-) -> usize {
+/// Runs the kernel `lanes` on random inputs for the eight scalar BSDFs `scalar` and
+/// compares every lane with the scalar BSDF's own answer; the number of samples that
+/// existed.
+fn compare(rng: &mut Pcg32, scalar: &[&dyn BsdfModel; 8], lanes: &impl LaneKernel<F8>) -> usize {
     let mode = TransportMode::Radiance;
     let wo: [Vec3; 8] = std::array::from_fn(|_| direction(rng));
     let wi: [Vec3; 8] = std::array::from_fn(|_| direction(rng));
     let u: [Vec2; 8] = std::array::from_fn(|_| Vec2::new(rng.next_f32(), rng.next_f32()));
-    let (eval, pdf, s) = lanes(lanes_of(wo), lanes_of(wi), (f8(u.map(|u| u.x)), f8(u.map(|u| u.y))));
-    let (eval, pdf) = (eval.to_lanes(), pdf.to_array());
+    let (lwo, lwi) = (lanes_of(wo), lanes_of(wi));
+    let s = lanes.sample(lwo, (f8(u.map(|u| u.x)), f8(u.map(|u| u.y))));
+    let (eval, pdf) = (lanes.eval(lwo, lwi).to_lanes(), lanes.pdf(lwo, lwi).to_array());
     let (ok, delta) = (F8::mask_bits(s.ok), F8::mask_bits(s.delta));
     let (swi, sweight, spdf) = (s.wi.to_lanes(), s.weight.to_lanes(), s.pdf.to_array());
     let mut samples = 0;
@@ -112,9 +107,7 @@ fn conductor_lanes_equal_the_scalar_conductor_bit_for_bit() {
         let cs = conductors(&mut rng);
         let lanes = conductor_lanes(&cs);
         let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &cs[k] as &dyn BsdfModel);
-        samples += compare(&mut rng, &scalar, |wo, wi, u| {
-            (lanes.eval(wo, wi), lanes.pdf(wo, wi), lanes.sample(wo, u))
-        });
+        samples += compare(&mut rng, &scalar, &lanes);
     }
     assert!(samples > AT_LEAST, "only {samples} samples existed");
 }
@@ -131,9 +124,7 @@ fn diffuse_lanes_equal_the_scalar_diffuse_bit_for_bit() {
             reflectance: lanes_of(ds.map(|d| Vec3::new(d.reflectance.r, d.reflectance.g, d.reflectance.b))),
         };
         let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &ds[k] as &dyn BsdfModel);
-        samples += compare(&mut rng, &scalar, |wo, wi, u| {
-            (lanes.eval(wo, wi), lanes.pdf(wo, wi), lanes.sample(wo, u))
-        });
+        samples += compare(&mut rng, &scalar, &lanes);
     }
     assert!(samples > AT_LEAST, "only {samples} samples existed");
 }

@@ -11,7 +11,7 @@
 //! `diffuse_lanes_equal_the_scalar_bounce` in `tests/path.rs` holds it to that.
 
 use super::{nee, MisHeuristic};
-use crate::bsdfs::DiffuseLanes;
+use crate::bsdfs::{DiffuseLanes, LaneKernel};
 use crate::lights::emitter::{area_to_solid_angle, triangle_point, SMALL_SOLID_ANGLE};
 use penumbra_core::frame::Basis;
 use penumbra_core::lanes::{Real, V3};
