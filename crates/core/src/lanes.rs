@@ -89,6 +89,11 @@ pub trait Real:
     fn not(a: Self::Mask) -> Self::Mask;
     /// Per lane: `t` where `mask` holds, else `f`.
     fn select(mask: Self::Mask, t: Self, f: Self) -> Self;
+    /// Per lane: mask `t` where `mask` holds, else mask `f`.
+    #[inline(always)]
+    fn select_mask(mask: Self::Mask, t: Self::Mask, f: Self::Mask) -> Self::Mask {
+        Self::or(Self::and(mask, t), Self::and(Self::not(mask), f))
+    }
     /// The coordinate `self` of a surface point moved along the normal component `n` by a
     /// few units in the last place ([`crate::ray::offset_origin`], one coordinate).
     fn offset_along(self, n: Self) -> Self;

@@ -4,7 +4,7 @@
 //! incident direction; `eta` is the relative index `n_t / n_i` (transmitted over incident).
 
 use glam::Vec3;
-use penumbra_core::lanes::Real;
+use penumbra_core::lanes::{Real, V3};
 
 /// Mirror reflection of `wo` about `n`.
 pub fn reflect(wo: Vec3, n: Vec3) -> Vec3 {
@@ -14,27 +14,34 @@ pub fn reflect(wo: Vec3, n: Vec3) -> Vec3 {
 /// The refracted direction by Snell's law, `None` on total internal reflection.
 /// `wi` and `n` on the same side; the result is on the other side of the surface.
 pub fn refract(wi: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+    let (t, ok) = refract_lanes(wi.into(), n.into(), eta);
+    ok.then(|| t.into())
+}
+
+/// [`refract`] over lanes of any [`Real`] type: the direction, and where it exists.
+#[inline(always)]
+pub fn refract_lanes<R: Real>(wi: V3<R>, n: V3<R>, eta: R) -> (V3<R>, R::Mask) {
+    let one = R::splat(1.0);
     let cos_i = wi.dot(n);
-    let sin2_t = (1.0 - cos_i * cos_i).max(0.0) / (eta * eta);
-    if sin2_t >= 1.0 {
-        return None;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    Some(-wi / eta + (cos_i / eta - cos_t) * n)
+    let sin2_t = (one - cos_i * cos_i).max(R::splat(0.0)) / (eta * eta);
+    let cos_t = (one - sin2_t).sqrt();
+    let t = (-wi).div_by(eta) + n.scale(cos_i / eta - cos_t);
+    (t, R::not(sin2_t.cmp_ge(one)))
 }
 
 /// Unpolarised Fresnel reflectance of a dielectric interface (the exact equations, e.g.
 /// pbrt-v4 eq. 9.5-9.6) for incidence cosine `cos_i` in [0, 1]; 1 on total internal reflection.
-pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
-    let cos_i = cos_i.clamp(0.0, 1.0);
-    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
-    if sin2_t >= 1.0 {
-        return 1.0;
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
+/// Written over [`Real`], for one path or for lanes.
+#[inline(always)]
+pub fn fresnel_dielectric<R: Real>(cos_i: R, eta: R) -> R {
+    let one = R::splat(1.0);
+    let cos_i = clamp_unit(cos_i);
+    let sin2_t = (one - cos_i * cos_i) / (eta * eta);
+    let cos_t = (one - sin2_t).sqrt();
     let r_parallel = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
     let r_perpendicular = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    0.5 * (r_parallel * r_parallel + r_perpendicular * r_perpendicular)
+    let f = R::splat(0.5) * (r_parallel * r_parallel + r_perpendicular * r_perpendicular);
+    R::select(sin2_t.cmp_ge(one), one, f)
 }
 
 /// Unpolarised Fresnel reflectance of a conductor of complex relative index `eta + i k`

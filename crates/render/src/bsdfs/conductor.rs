@@ -53,7 +53,7 @@ pub struct ConductorLanes<R: Real> {
 impl Conductor {
     /// The one-lane instance of the conductor's arithmetic.
     #[inline(always)]
-    pub fn lanes(&self) -> ConductorLanes<f32> {
+    pub fn lanes(&self, _mode: TransportMode) -> ConductorLanes<f32> {
         let (eta, k, schlick) = match self.fresnel {
             MetalFresnel::Complex { eta, k } => (eta, k, false),
             MetalFresnel::Schlick => (Rgb::WHITE, Rgb::BLACK, true),
@@ -70,7 +70,7 @@ impl Conductor {
 
     /// F(cos) per channel, tinted by `specular`.
     pub(crate) fn fresnel(&self, cos: f32) -> Rgb {
-        self.lanes().fresnel(cos).into()
+        self.lanes(TransportMode::Radiance).fresnel(cos).into()
     }
 }
 
@@ -111,7 +111,7 @@ impl<R: Real> LaneKernel<R> for ConductorLanes<R> {
     /// A reflected direction: mirror (delta) lanes where the metal is smooth, visible
     /// normals elsewhere.
     #[inline(always)]
-    fn sample(&self, wo: V3<R>, u: (R, R)) -> LaneSample<R> {
+    fn sample(&self, wo: V3<R>, _u_lobe: R, u: (R, R)) -> LaneSample<R> {
         let (zero, one) = (R::splat(0.0), R::splat(1.0));
         let (wi, m, ok) = self.ggx.sample_reflection_lanes(wo, u);
         let weight = self.fresnel(wo.dot(m)).scale(self.ggx.g2(wo, wi) / self.ggx.g1(wo));

@@ -8,9 +8,13 @@
 //! Radiance crossing into a denser medium is scaled by 1/η² (pbrt-v4 section 9.5.2); importance is not.
 
 use super::microfacet::Ggx;
-use super::{reflect_z, same_hemisphere, BsdfModel, BsdfSample, SpecularRays, TransportMode};
-use crate::optics::{fresnel_dielectric, refract};
+use super::{
+    one_lane_methods, reflect_z, same_hemisphere, BsdfModel, BsdfSample, LaneKernel, LaneSample, SpecularRays,
+    TransportMode,
+};
+use crate::optics::{fresnel_dielectric, refract, refract_lanes};
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Real, V3};
 use penumbra_core::Rgb;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,25 +28,6 @@ pub struct Dielectric {
     pub alpha: Option<Ggx>,
 }
 
-/// The relative index η_t / η_i for light leaving towards `w`'s side of normal `n`.
-#[inline]
-fn relative_eta(eta: f32, cos: f32) -> f32 {
-    if cos > 0.0 {
-        eta
-    } else {
-        1.0 / eta
-    }
-}
-
-/// What radiance is scaled by when crossing relative index `eta_rel`.
-#[inline]
-fn transmission_scale(eta_rel: f32, mode: TransportMode) -> f32 {
-    match mode {
-        TransportMode::Radiance => 1.0 / (eta_rel * eta_rel),
-        TransportMode::Importance => 1.0,
-    }
-}
-
 /// One of a dielectric's two lobes, which a layered BSDF's walk asks for alone (pbrt-v4's
 /// `BxDFReflTransFlags`): sampled with the Fresnel choice left out of the density.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -51,47 +36,190 @@ pub enum Lobe {
     Transmission,
 }
 
+/// A dielectric in lanes of any [`Real`] type: each lane its own index, tints and
+/// roughness, all in one transport mode.
+#[derive(Clone, Copy, Debug)]
+pub struct DielectricLanes<R: Real> {
+    pub eta: R,
+    pub reflectance: V3<R>,
+    pub transmittance: V3<R>,
+    /// The microfacet distribution (any positive roughness where `rough` does not hold).
+    pub ggx: Ggx<R>,
+    /// Lanes with a rough interface that is not index-matched.
+    pub rough: R::Mask,
+    /// Light paths (importance): refraction does not scale by 1/η².
+    pub importance: bool,
+}
+
+impl<R: Real> DielectricLanes<R> {
+    /// The relative index η_t / η_i for light leaving towards the side of cosine `cos`.
+    #[inline(always)]
+    fn relative_eta(&self, cos: R) -> R {
+        R::select(cos.cmp_gt(R::splat(0.0)), self.eta, R::splat(1.0) / self.eta)
+    }
+
+    /// What the carried quantity is scaled by when crossing relative index `eta_rel`.
+    #[inline(always)]
+    fn transmission_scale(&self, eta_rel: R) -> R {
+        if self.importance {
+            R::splat(1.0)
+        } else {
+            R::splat(1.0) / (eta_rel * eta_rel)
+        }
+    }
+
+    /// The generalized half vector of `wo` and `wi` on the upper side, the relative index
+    /// crossed (1 for reflection), F, and where it exists (not where a back-facing
+    /// microfacet would be needed).
+    #[inline(always)]
+    fn half_vector(&self, wo: V3<R>, wi: V3<R>) -> (V3<R>, R, R, R::Mask) {
+        let (zero, one) = (R::splat(0.0), R::splat(1.0));
+        let (cos_o, cos_i) = (wo.z, wi.z);
+        let etap = R::select((cos_o * cos_i).cmp_gt(zero), one, self.relative_eta(cos_o));
+        let (m, unit) = (V3::new(wi.x * etap, wi.y * etap, wi.z * etap) + wo).try_normalize();
+        let m = V3::select(m.z.cmp_lt(zero), -m, m);
+        let back = R::or((m.dot(wi) * cos_i).cmp_le(zero), (m.dot(wo) * cos_o).cmp_le(zero));
+        let c = wo.dot(m);
+        let f = fresnel_dielectric(c.abs(), self.relative_eta(c));
+        let exists = R::and(R::not(R::or(cos_o.cmp_eq(zero), cos_i.cmp_eq(zero))), unit);
+        (m, etap, f, R::and(exists, R::not(back)))
+    }
+
+    /// The rough lobe's density of `wi` before the Fresnel choice (reflection: the visible
+    /// normal's density over 4 |wo·m|; refraction: times the Jacobian |wi·m| / (wi·m +
+    /// wo·m / η)²), where the lobe is reflection, F, and where all this exists (rough
+    /// lanes, possible pairs).
+    #[inline(always)]
+    fn lobe_density(&self, wo: V3<R>, wi: V3<R>) -> (R, R::Mask, R, R::Mask) {
+        let (m, etap, f, ok) = self.half_vector(wo, wi);
+        let visible = self.ggx.visible_pdf(wo, m);
+        let reflection = etap.cmp_eq(R::splat(1.0));
+        let r = visible / (R::splat(4.0) * wo.dot(m).abs());
+        let x = wi.dot(m) + wo.dot(m) / etap;
+        let t = visible * wi.dot(m).abs() / (x * x);
+        (R::select(reflection, r, t), reflection, f, R::and(ok, self.rough))
+    }
+
+    /// The smooth interface's sample: mirror reflection with probability F, else Snell
+    /// refraction.
+    #[inline(always)]
+    fn sample_smooth(&self, wo: V3<R>, u: R) -> LaneSample<R> {
+        let (zero, one) = (R::splat(0.0), R::splat(1.0));
+        let eta_rel = self.relative_eta(wo.z);
+        let f = fresnel_dielectric(wo.z.abs(), eta_rel);
+        let s = wo.z / wo.z.abs();
+        let (refracted, crosses) = refract_lanes(wo, V3::new(zero * s, zero * s, one * s), eta_rel);
+        let reflect = u.cmp_lt(f);
+        LaneSample {
+            wi: V3::select(reflect, V3::new(-wo.x, -wo.y, wo.z), refracted),
+            weight: V3::select(
+                reflect,
+                self.reflectance,
+                self.transmittance.scale(self.transmission_scale(eta_rel)),
+            ),
+            pdf: R::select(reflect, f, one - f),
+            delta: one.cmp_eq(one),
+            eta: R::select(reflect, one, eta_rel),
+            ok: R::or(reflect, crosses),
+        }
+    }
+
+    /// The rough interface's sample: a visible normal, then reflection with probability
+    /// F(wo·m), else refraction through it.
+    #[inline(always)]
+    fn sample_rough(&self, wo: V3<R>, u: R, u2: (R, R)) -> LaneSample<R> {
+        let (zero, one) = (R::splat(0.0), R::splat(1.0));
+        let m = self.ggx.sample_visible(wo, u2);
+        let c = wo.dot(m);
+        let eta_rel = self.relative_eta(c);
+        let f = fresnel_dielectric(c.abs(), eta_rel);
+        let reflect = u.cmp_lt(f);
+        let (refracted, crosses) = refract_lanes(wo, V3::select(c.cmp_gt(zero), m, -m), eta_rel);
+        let wi = V3::select(reflect, m.scale(R::splat(2.0) * c) - wo, refracted);
+        let same_side = (wo.z * wi.z).cmp_gt(zero);
+        // Reflection must stay on wo's side and refraction cross.
+        let consistent = R::or(R::and(reflect, same_side), R::and(R::not(reflect), R::not(same_side)));
+        let pdf = self.pdf(wo, wi);
+        LaneSample {
+            wi,
+            weight: self.eval(wo, wi).scale(wi.z.abs() / pdf),
+            pdf,
+            delta: zero.cmp_lt(zero),
+            eta: R::select(reflect, one, eta_rel),
+            ok: R::and(R::and(R::or(reflect, crosses), consistent), pdf.cmp_gt(zero)),
+        }
+    }
+}
+
+impl<R: Real> LaneKernel<R> for DielectricLanes<R> {
+    /// Walter et al.'s eqs. 20 (reflection) and 21 (refraction); black where smooth.
+    #[inline(always)]
+    fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
+        let (m, etap, f, ok) = self.half_vector(wo, wi);
+        let (cos_o, cos_i) = (wo.z, wi.z);
+        let dg = self.ggx.d(m) * self.ggx.g2(wo, wi);
+        let reflected = self.reflectance.scale(dg * f / (R::splat(4.0) * cos_i * cos_o).abs());
+        let x = wi.dot(m) + wo.dot(m) / etap;
+        let denom = x * x * cos_i * cos_o;
+        let ft = dg * (R::splat(1.0) - f) * (wi.dot(m) * wo.dot(m) / denom).abs();
+        let transmitted = self.transmittance.scale(ft * self.transmission_scale(etap));
+        let f = V3::select(etap.cmp_eq(R::splat(1.0)), reflected, transmitted);
+        V3::select(R::and(ok, self.rough), f, V3::splat(0.0))
+    }
+
+    #[inline(always)]
+    fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
+        let (density, reflection, f, ok) = self.lobe_density(wo, wi);
+        let p = density * R::select(reflection, f, R::splat(1.0) - f);
+        R::select(ok, p, R::splat(0.0))
+    }
+
+    #[inline(always)]
+    fn sample(&self, wo: V3<R>, u_lobe: R, u: (R, R)) -> LaneSample<R> {
+        let (smooth, rough) = (self.sample_smooth(wo, u_lobe), self.sample_rough(wo, u_lobe, u));
+        let r = self.rough;
+        LaneSample {
+            wi: V3::select(r, rough.wi, smooth.wi),
+            weight: V3::select(r, rough.weight, smooth.weight),
+            pdf: R::select(r, rough.pdf, smooth.pdf),
+            delta: R::select_mask(r, rough.delta, smooth.delta),
+            eta: R::select(r, rough.eta, smooth.eta),
+            ok: R::and(
+                R::not(wo.z.cmp_eq(R::splat(0.0))),
+                R::select_mask(r, rough.ok, smooth.ok),
+            ),
+        }
+    }
+}
+
 impl Dielectric {
+    /// The one-lane instance of the arithmetic, for transport `mode`.
+    #[inline(always)]
+    pub fn lanes(&self, mode: TransportMode) -> DielectricLanes<f32> {
+        DielectricLanes {
+            eta: self.eta,
+            reflectance: self.reflectance.into(),
+            transmittance: self.transmittance.into(),
+            ggx: self.alpha.unwrap_or(Ggx { ax: 1.0, ay: 1.0 }),
+            rough: self.rough().is_some(),
+            importance: mode == TransportMode::Importance,
+        }
+    }
+
     /// The rough BSDF's distribution, unless the interface is smooth or index-matched.
     pub(crate) fn rough(&self) -> Option<Ggx> {
         self.alpha.filter(|_| self.eta != 1.0)
     }
 
-    /// The generalized half vector of `wo` and `wi` on the upper side, the relative index
-    /// crossed (1 for reflection) and F; `None` when a back-facing microfacet would be needed.
-    fn half_vector(&self, wo: Vec3, wi: Vec3) -> Option<(Vec3, f32, f32)> {
-        let (cos_o, cos_i) = (wo.z, wi.z);
-        if cos_o == 0.0 || cos_i == 0.0 {
-            return None;
-        }
-        let etap = if cos_o * cos_i > 0.0 {
-            1.0
-        } else {
-            relative_eta(self.eta, cos_o)
-        };
-        let m = (wi * etap + wo).try_normalize()?;
-        let m = if m.z < 0.0 { -m } else { m };
-        if m.dot(wi) * cos_i <= 0.0 || m.dot(wo) * cos_o <= 0.0 {
-            return None;
-        }
-        let c = wo.dot(m);
-        let f = fresnel_dielectric(c.abs(), relative_eta(self.eta, c));
-        Some((m, etap, f))
-    }
-
-    /// The rough lobe's density of `wi` before the Fresnel choice (reflection: the visible
-    /// normal's density over 4 |wo·m|; refraction: times the Jacobian |wi·m| / (wi·m +
-    /// wo·m / η)²), the lobe and F; `None` for a smooth interface or an impossible pair.
+    /// [`DielectricLanes::lobe_density`] of one path.
     fn lobe_density(&self, wo: Vec3, wi: Vec3) -> Option<(f32, Lobe, f32)> {
-        let ggx = self.rough()?;
-        let (m, etap, f) = self.half_vector(wo, wi)?;
-        let visible = ggx.visible_pdf(wo, m);
-        Some(if etap == 1.0 {
-            (visible / (4.0 * wo.dot(m).abs()), Lobe::Reflection, f)
+        let (density, reflection, f, ok) = self.lanes(TransportMode::Radiance).lobe_density(wo.into(), wi.into());
+        let lobe = if reflection {
+            Lobe::Reflection
         } else {
-            let denom = (wi.dot(m) + wo.dot(m) / etap).powi(2);
-            (visible * wi.dot(m).abs() / denom, Lobe::Transmission, f)
-        })
+            Lobe::Transmission
+        };
+        ok.then_some((density, lobe, f))
     }
 
     /// Density with which [`Dielectric::sample_lobe`] gives `wi` for `lobe`.
@@ -109,8 +237,9 @@ impl Dielectric {
         if wo.z == 0.0 {
             return None;
         }
+        let lanes = self.lanes(mode);
         let Some(ggx) = self.rough() else {
-            let eta_rel = relative_eta(self.eta, wo.z);
+            let eta_rel = lanes.relative_eta(wo.z);
             let f = fresnel_dielectric(wo.z.abs(), eta_rel);
             return match lobe {
                 Lobe::Reflection => (f > 0.0).then(|| BsdfSample {
@@ -124,7 +253,7 @@ impl Dielectric {
                     .filter(|_| f < 1.0)
                     .map(|wi| BsdfSample {
                         wi,
-                        weight: self.transmittance * ((1.0 - f) * transmission_scale(eta_rel, mode)),
+                        weight: self.transmittance * ((1.0 - f) * lanes.transmission_scale(eta_rel)),
                         pdf: 1.0,
                         delta: true,
                         eta: eta_rel,
@@ -133,7 +262,7 @@ impl Dielectric {
         };
         let m = Vec3::from(ggx.sample_visible(wo, u2.into()));
         let c = wo.dot(m);
-        let eta_rel = relative_eta(self.eta, c);
+        let eta_rel = lanes.relative_eta(c);
         let (wi, eta) = match lobe {
             Lobe::Reflection => (2.0 * c * m - wo, 1.0),
             Lobe::Transmission => (refract(wo, if c > 0.0 { m } else { -m }, eta_rel)?, eta_rel),
@@ -151,98 +280,21 @@ impl Dielectric {
             eta,
         })
     }
-
-    fn sample_smooth(&self, wo: Vec3, u: f32, mode: TransportMode) -> Option<BsdfSample> {
-        let eta_rel = relative_eta(self.eta, wo.z);
-        let f = fresnel_dielectric(wo.z.abs(), eta_rel);
-        if u < f {
-            return Some(BsdfSample {
-                wi: reflect_z(wo),
-                weight: self.reflectance,
-                pdf: f,
-                delta: true,
-                eta: 1.0,
-            });
-        }
-        let wi = refract(wo, Vec3::Z * wo.z.signum(), eta_rel)?;
-        Some(BsdfSample {
-            wi,
-            weight: self.transmittance * transmission_scale(eta_rel, mode),
-            pdf: 1.0 - f,
-            delta: true,
-            eta: eta_rel,
-        })
-    }
 }
 
 impl BsdfModel for Dielectric {
-    fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
-        let Some(ggx) = self.rough() else {
-            return Rgb::BLACK;
-        };
-        let Some((m, etap, f)) = self.half_vector(wo, wi) else {
-            return Rgb::BLACK;
-        };
-        let (cos_o, cos_i) = (wo.z, wi.z);
-        let dg = ggx.d(m) * ggx.g2(wo, wi);
-        if etap == 1.0 {
-            return self.reflectance * (dg * f / (4.0 * cos_i * cos_o).abs());
-        }
-        let denom = (wi.dot(m) + wo.dot(m) / etap).powi(2) * cos_i * cos_o;
-        let ft = dg * (1.0 - f) * (wi.dot(m) * wo.dot(m) / denom).abs();
-        self.transmittance * (ft * transmission_scale(etap, mode))
-    }
-
-    fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {
-        match self.lobe_density(wo, wi) {
-            Some((density, Lobe::Reflection, f)) => density * f,
-            Some((density, Lobe::Transmission, f)) => density * (1.0 - f),
-            None => 0.0,
-        }
-    }
-
-    fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
-        if wo.z == 0.0 {
-            return None;
-        }
-        let Some(ggx) = self.rough() else {
-            return self.sample_smooth(wo, u, mode);
-        };
-        let m = Vec3::from(ggx.sample_visible(wo, u2.into()));
-        let c = wo.dot(m);
-        let eta_rel = relative_eta(self.eta, c);
-        let f = fresnel_dielectric(c.abs(), eta_rel);
-        let (wi, eta) = if u < f {
-            (2.0 * c * m - wo, 1.0)
-        } else {
-            let wi = refract(wo, if c > 0.0 { m } else { -m }, eta_rel)?;
-            if same_hemisphere(wo, wi) {
-                return None;
-            }
-            (wi, eta_rel)
-        };
-        if (u < f) != same_hemisphere(wo, wi) {
-            return None;
-        }
-        let pdf = self.pdf(wo, wi, mode);
-        (pdf > 0.0).then(|| BsdfSample {
-            wi,
-            weight: self.eval(wo, wi, mode) * (wi.z.abs() / pdf),
-            pdf,
-            delta: false,
-            eta,
-        })
-    }
+    one_lane_methods!();
 
     fn specular_rays(&self, wo: Vec3, mode: TransportMode, rays: &mut SpecularRays) {
         if self.rough().is_some() || wo.z == 0.0 {
             return;
         }
-        let eta_rel = relative_eta(self.eta, wo.z);
+        let lanes = self.lanes(mode);
+        let eta_rel = lanes.relative_eta(wo.z);
         let f = fresnel_dielectric(wo.z.abs(), eta_rel);
         rays.push(reflect_z(wo), self.reflectance * f);
         if let Some(wi) = refract(wo, Vec3::Z * wo.z.signum(), eta_rel) {
-            rays.push(wi, self.transmittance * ((1.0 - f) * transmission_scale(eta_rel, mode)));
+            rays.push(wi, self.transmittance * ((1.0 - f) * lanes.transmission_scale(eta_rel)));
         }
     }
 

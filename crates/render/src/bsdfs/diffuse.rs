@@ -25,7 +25,7 @@ pub struct DiffuseLanes<R: Real> {
 impl Diffuse {
     /// The one-lane instance of the arithmetic.
     #[inline(always)]
-    pub fn lanes(&self) -> DiffuseLanes<f32> {
+    pub fn lanes(&self, _mode: TransportMode) -> DiffuseLanes<f32> {
         DiffuseLanes {
             reflectance: self.reflectance.into(),
         }
@@ -51,7 +51,7 @@ impl<R: Real> LaneKernel<R> for DiffuseLanes<R> {
 
     /// A cosine-weighted direction (none where `wo` is below the surface).
     #[inline(always)]
-    fn sample(&self, wo: V3<R>, u: (R, R)) -> LaneSample<R> {
+    fn sample(&self, wo: V3<R>, _u_lobe: R, u: (R, R)) -> LaneSample<R> {
         let zero = R::splat(0.0);
         let wi = warp::cosine_hemisphere_lanes(u.0, u.1);
         let pdf = wi.z.max(zero) * R::splat(FRAC_1_PI);

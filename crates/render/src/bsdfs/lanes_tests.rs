@@ -42,7 +42,7 @@ fn conductors(rng: &mut Pcg32) -> [Conductor; 8] {
 
 /// The conductors' parameters gathered into eight lanes.
 fn conductor_lanes(cs: &[Conductor; 8]) -> ConductorLanes<F8> {
-    let one = cs.map(|c| c.lanes());
+    let one = cs.map(|c| c.lanes(TransportMode::Radiance));
     let column = |f: &dyn Fn(&ConductorLanes<f32>) -> V3<f32>| lanes_of(one.map(|l| f(&l).into()));
     ConductorLanes {
         eta: column(&|l| l.eta),
@@ -64,13 +64,13 @@ fn bits(v: Vec3) -> [u32; 3] {
 /// Runs the kernel `lanes` on random inputs for the eight scalar BSDFs `scalar` and
 /// compares every lane with the scalar BSDF's own answer; the number of samples that
 /// existed.
-fn compare(rng: &mut Pcg32, scalar: &[&dyn BsdfModel; 8], lanes: &impl LaneKernel<F8>) -> usize {
-    let mode = TransportMode::Radiance;
+fn compare(rng: &mut Pcg32, scalar: &[&dyn BsdfModel; 8], lanes: &impl LaneKernel<F8>, mode: TransportMode) -> usize {
     let wo: [Vec3; 8] = std::array::from_fn(|_| direction(rng));
     let wi: [Vec3; 8] = std::array::from_fn(|_| direction(rng));
     let u: [Vec2; 8] = std::array::from_fn(|_| Vec2::new(rng.next_f32(), rng.next_f32()));
     let (lwo, lwi) = (lanes_of(wo), lanes_of(wi));
-    let s = lanes.sample(lwo, (f8(u.map(|u| u.x)), f8(u.map(|u| u.y))));
+    let u_lobe: [f32; 8] = std::array::from_fn(|_| rng.next_f32());
+    let s = lanes.sample(lwo, f8(u_lobe), (f8(u.map(|u| u.x)), f8(u.map(|u| u.y))));
     let (eval, pdf) = (lanes.eval(lwo, lwi).to_lanes(), lanes.pdf(lwo, lwi).to_array());
     let (ok, delta) = (F8::mask_bits(s.ok), F8::mask_bits(s.delta));
     let (swi, sweight, spdf) = (s.wi.to_lanes(), s.weight.to_lanes(), s.pdf.to_array());
@@ -80,7 +80,7 @@ fn compare(rng: &mut Pcg32, scalar: &[&dyn BsdfModel; 8], lanes: &impl LaneKerne
         let e: Vec3 = Into::<V3<f32>>::into(c.eval(wo[k], wi[k], mode)).into();
         assert_eq!(bits(eval[k]), bits(e), "eval, lane {k}");
         assert_eq!(pdf[k].to_bits(), c.pdf(wo[k], wi[k], mode).to_bits(), "pdf, lane {k}");
-        let one = c.sample(wo[k], 0.5, u[k], mode);
+        let one = c.sample(wo[k], u_lobe[k], u[k], mode);
         assert_eq!(ok >> k & 1 != 0, one.is_some(), "sample exists, lane {k}: {:?}", wo[k]);
         if let Some(one) = one {
             samples += 1;
@@ -107,7 +107,7 @@ fn conductor_lanes_equal_the_scalar_conductor_bit_for_bit() {
         let cs = conductors(&mut rng);
         let lanes = conductor_lanes(&cs);
         let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &cs[k] as &dyn BsdfModel);
-        samples += compare(&mut rng, &scalar, &lanes);
+        samples += compare(&mut rng, &scalar, &lanes, TransportMode::Radiance);
     }
     assert!(samples > AT_LEAST, "only {samples} samples existed");
 }
@@ -124,7 +124,47 @@ fn diffuse_lanes_equal_the_scalar_diffuse_bit_for_bit() {
             reflectance: lanes_of(ds.map(|d| Vec3::new(d.reflectance.r, d.reflectance.g, d.reflectance.b))),
         };
         let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &ds[k] as &dyn BsdfModel);
-        samples += compare(&mut rng, &scalar, &lanes);
+        samples += compare(&mut rng, &scalar, &lanes, TransportMode::Radiance);
     }
     assert!(samples > AT_LEAST, "only {samples} samples existed");
+}
+
+/// Eight dielectrics: smooth and rough, indices above and below 1 and index-matched.
+fn dielectrics(rng: &mut Pcg32) -> [Dielectric; 8] {
+    std::array::from_fn(|k| Dielectric {
+        eta: [1.5, 1.0 / 1.33, 1.0, 2.4][k % 4] + if k < 4 { 0.0 } else { rng.next_f32() * 0.1 },
+        reflectance: Rgb::new(rng.next_f32(), rng.next_f32(), 1.0),
+        transmittance: Rgb::new(1.0, rng.next_f32(), rng.next_f32()),
+        alpha: (k % 3 != 0)
+            .then(|| Ggx::new(rng.next_f32() * 0.6, rng.next_f32() * 0.6))
+            .flatten(),
+    })
+}
+
+#[test]
+fn dielectric_lanes_equal_the_scalar_dielectric_bit_for_bit() {
+    let mut rng = Pcg32::new(13, 5);
+    for mode in [TransportMode::Radiance, TransportMode::Importance] {
+        let mut samples = 0;
+        for _ in 0..ROUNDS {
+            let ds = dielectrics(&mut rng);
+            let one = ds.map(|d| d.lanes(mode));
+            let column = |f: &dyn Fn(&DielectricLanes<f32>) -> V3<f32>| lanes_of(one.map(|l| f(&l).into()));
+            let lanes = DielectricLanes {
+                eta: f8(one.map(|l| l.eta)),
+                reflectance: column(&|l| l.reflectance),
+                transmittance: column(&|l| l.transmittance),
+                ggx: Ggx {
+                    ax: f8(one.map(|l| l.ggx.ax)),
+                    ay: f8(one.map(|l| l.ggx.ay)),
+                },
+                rough: F8::mask(one.map(|l| l.rough)),
+                importance: mode == TransportMode::Importance,
+            };
+            let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &ds[k] as &dyn BsdfModel);
+            samples += compare(&mut rng, &scalar, &lanes, mode);
+        }
+        // Glass samples from both sides, so nearly every view gives one.
+        assert!(samples > 2 * AT_LEAST, "{mode:?}: only {samples} samples existed");
+    }
 }

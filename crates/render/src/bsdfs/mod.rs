@@ -29,7 +29,7 @@ mod tests_table;
 
 pub use blend::Blend;
 pub use conductor::{Conductor, ConductorLanes, MetalFresnel};
-pub use dielectric::{Dielectric, Lobe};
+pub use dielectric::{Dielectric, DielectricLanes, Lobe};
 pub use diffuse::{Diffuse, DiffuseLanes};
 pub use layered::{LayerBase, Layered};
 pub use phong::PhongBsdf;
@@ -98,31 +98,31 @@ impl LaneSample<f32> {
 }
 
 /// A BSDF kind's arithmetic written over the lane type `R` (f32 for one path, eight lanes
-/// for eight): the non-delta value and density, and a sample, per lane, in the radiance
-/// mode (the kinds written this way are symmetric in it).
+/// for eight): the non-delta value and density, and a sample, per lane, in the transport
+/// mode the lanes were made for.
 pub trait LaneKernel<R: Real> {
     /// f(wo, wi) without the cosine.
     fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R>;
     /// Density with which `sample` gives the non-delta direction `wi`.
     fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R;
-    /// A direction from the whole BSDF, from two uniforms.
-    fn sample(&self, wo: V3<R>, u: (R, R)) -> LaneSample<R>;
+    /// A direction from the whole BSDF: `u_lobe` chooses among lobes, `u` within one.
+    fn sample(&self, wo: V3<R>, u_lobe: R, u: (R, R)) -> LaneSample<R>;
 }
 
 /// The scalar [`BsdfModel`] methods `eval`, `pdf` and `sample` of a kind whose
-/// arithmetic is a [`LaneKernel`], by its one-lane instance `self.lanes()`.
+/// arithmetic is a [`LaneKernel`], by its one-lane instance `self.lanes(mode)`.
 macro_rules! one_lane_methods {
     () => {
-        fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Rgb {
-            LaneKernel::eval(&self.lanes(), wo.into(), wi.into()).into()
+        fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
+            LaneKernel::eval(&self.lanes(mode), wo.into(), wi.into()).into()
         }
 
-        fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {
-            LaneKernel::pdf(&self.lanes(), wo.into(), wi.into())
+        fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+            LaneKernel::pdf(&self.lanes(mode), wo.into(), wi.into())
         }
 
-        fn sample(&self, wo: Vec3, _u: f32, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
-            LaneKernel::sample(&self.lanes(), wo.into(), u.into()).one()
+        fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+            LaneKernel::sample(&self.lanes(mode), wo.into(), u_lobe, u.into()).one()
         }
     };
 }

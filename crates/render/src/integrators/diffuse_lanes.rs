@@ -208,7 +208,7 @@ fn continuation<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, u: (R, R)) -> Conti
     let bsdf = DiffuseLanes {
         reflectance: h.reflectance,
     };
-    let s = bsdf.sample(sh.bsdf_dir(sh.wo), u);
+    let s = bsdf.sample(sh.bsdf_dir(sh.wo), R::splat(0.0), u);
     let local = sh.bsdf_dir(s.wi);
     let wi = sh.frame.to_world(local);
     ContinuationOut {
