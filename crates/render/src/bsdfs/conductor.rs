@@ -12,10 +12,12 @@
 //! eight-lane instructions with the same floats per lane.
 
 use super::microfacet::Ggx;
-use super::{one_lane_methods, BsdfModel, BsdfSample, LaneKernel, LaneSample, SpecularRays, TransportMode};
+use super::{
+    gather_v3, one_lane_methods, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays, TransportMode,
+};
 use crate::optics::{clamp_unit, fresnel_conductor};
 use glam::{Vec2, Vec3};
-use penumbra_core::lanes::{Real, V3};
+use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::Rgb;
 
 /// How a metal's reflectance varies with the angle of incidence.
@@ -89,6 +91,24 @@ impl<R: Real> ConductorLanes<R> {
         let x2 = x * x;
         let schlick = f0 + (V3::splat(1.0) - f0).scale(x2 * x2 * x);
         V3::select(self.schlick, schlick, exact)
+    }
+}
+
+impl Gather for ConductorLanes<f32> {
+    type Lanes<L: Lane8> = ConductorLanes<L>;
+    #[inline(always)]
+    fn gather<L: Lane8>(one: &[Self; 8]) -> ConductorLanes<L> {
+        ConductorLanes {
+            eta: gather_v3(one.map(|c| c.eta)),
+            k: gather_v3(one.map(|c| c.k)),
+            schlick: L::mask_of(one.map(|c| c.schlick)),
+            specular: gather_v3(one.map(|c| c.specular)),
+            ggx: Ggx {
+                ax: L::from_array(one.map(|c| c.ggx.ax)),
+                ay: L::from_array(one.map(|c| c.ggx.ay)),
+            },
+            rough: L::mask_of(one.map(|c| c.rough)),
+        }
     }
 }
 

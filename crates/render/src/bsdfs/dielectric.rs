@@ -9,12 +9,12 @@
 
 use super::microfacet::Ggx;
 use super::{
-    one_lane_methods, reflect_z, same_hemisphere, BsdfModel, BsdfSample, LaneKernel, LaneSample, SpecularRays,
-    TransportMode,
+    gather_v3, one_lane_methods, reflect_z, same_hemisphere, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample,
+    SpecularRays, TransportMode,
 };
 use crate::optics::{fresnel_dielectric, refract, refract_lanes};
 use glam::{Vec2, Vec3};
-use penumbra_core::lanes::{Real, V3};
+use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::Rgb;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -147,6 +147,25 @@ impl<R: Real> DielectricLanes<R> {
             delta: zero.cmp_lt(zero),
             eta: R::select(reflect, one, eta_rel),
             ok: R::and(R::and(R::or(reflect, crosses), consistent), pdf.cmp_gt(zero)),
+        }
+    }
+}
+
+impl Gather for DielectricLanes<f32> {
+    type Lanes<L: Lane8> = DielectricLanes<L>;
+    /// Eight dielectrics of one transport mode (the first's).
+    #[inline(always)]
+    fn gather<L: Lane8>(one: &[Self; 8]) -> DielectricLanes<L> {
+        DielectricLanes {
+            eta: L::from_array(one.map(|d| d.eta)),
+            reflectance: gather_v3(one.map(|d| d.reflectance)),
+            transmittance: gather_v3(one.map(|d| d.transmittance)),
+            ggx: Ggx {
+                ax: L::from_array(one.map(|d| d.ggx.ax)),
+                ay: L::from_array(one.map(|d| d.ggx.ay)),
+            },
+            rough: L::mask_of(one.map(|d| d.rough)),
+            importance: one[0].importance,
         }
     }
 }

@@ -5,9 +5,9 @@
 //! one-lane instance, and the path tracer's eight-lane bounce (`diffuse_lanes.rs`) calls
 //! the same routines.
 
-use super::{one_lane_methods, BsdfModel, BsdfSample, LaneKernel, LaneSample, TransportMode};
+use super::{gather_v3, one_lane_methods, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, TransportMode};
 use glam::{Vec2, Vec3};
-use penumbra_core::lanes::{Real, V3};
+use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::{warp, Rgb};
 use std::f32::consts::FRAC_1_PI;
 
@@ -28,6 +28,16 @@ impl Diffuse {
     pub fn lanes(&self, _mode: TransportMode) -> DiffuseLanes<f32> {
         DiffuseLanes {
             reflectance: self.reflectance.into(),
+        }
+    }
+}
+
+impl Gather for DiffuseLanes<f32> {
+    type Lanes<L: Lane8> = DiffuseLanes<L>;
+    #[inline(always)]
+    fn gather<L: Lane8>(one: &[Self; 8]) -> DiffuseLanes<L> {
+        DiffuseLanes {
+            reflectance: gather_v3(one.map(|d| d.reflectance)),
         }
     }
 }

@@ -40,23 +40,6 @@ fn conductors(rng: &mut Pcg32) -> [Conductor; 8] {
     })
 }
 
-/// The conductors' parameters gathered into eight lanes.
-fn conductor_lanes(cs: &[Conductor; 8]) -> ConductorLanes<F8> {
-    let one = cs.map(|c| c.lanes(TransportMode::Radiance));
-    let column = |f: &dyn Fn(&ConductorLanes<f32>) -> V3<f32>| lanes_of(one.map(|l| f(&l).into()));
-    ConductorLanes {
-        eta: column(&|l| l.eta),
-        k: column(&|l| l.k),
-        schlick: F8::mask(one.map(|l| l.schlick)),
-        specular: column(&|l| l.specular),
-        ggx: Ggx {
-            ax: f8(one.map(|l| l.ggx.ax)),
-            ay: f8(one.map(|l| l.ggx.ay)),
-        },
-        rough: F8::mask(one.map(|l| l.rough)),
-    }
-}
-
 fn bits(v: Vec3) -> [u32; 3] {
     [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]
 }
@@ -105,7 +88,7 @@ fn conductor_lanes_equal_the_scalar_conductor_bit_for_bit() {
     let mut samples = 0;
     for _ in 0..ROUNDS {
         let cs = conductors(&mut rng);
-        let lanes = conductor_lanes(&cs);
+        let lanes = Gather::gather::<F8>(&cs.map(|c| c.lanes(TransportMode::Radiance)));
         let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &cs[k] as &dyn BsdfModel);
         samples += compare(&mut rng, &scalar, &lanes, TransportMode::Radiance);
     }
@@ -120,9 +103,7 @@ fn diffuse_lanes_equal_the_scalar_diffuse_bit_for_bit() {
         let ds: [Diffuse; 8] = std::array::from_fn(|_| Diffuse {
             reflectance: Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()),
         });
-        let lanes = DiffuseLanes {
-            reflectance: lanes_of(ds.map(|d| Vec3::new(d.reflectance.r, d.reflectance.g, d.reflectance.b))),
-        };
+        let lanes = Gather::gather::<F8>(&ds.map(|d| d.lanes(TransportMode::Radiance)));
         let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &ds[k] as &dyn BsdfModel);
         samples += compare(&mut rng, &scalar, &lanes, TransportMode::Radiance);
     }
@@ -148,19 +129,7 @@ fn dielectric_lanes_equal_the_scalar_dielectric_bit_for_bit() {
         let mut samples = 0;
         for _ in 0..ROUNDS {
             let ds = dielectrics(&mut rng);
-            let one = ds.map(|d| d.lanes(mode));
-            let column = |f: &dyn Fn(&DielectricLanes<f32>) -> V3<f32>| lanes_of(one.map(|l| f(&l).into()));
-            let lanes = DielectricLanes {
-                eta: f8(one.map(|l| l.eta)),
-                reflectance: column(&|l| l.reflectance),
-                transmittance: column(&|l| l.transmittance),
-                ggx: Ggx {
-                    ax: f8(one.map(|l| l.ggx.ax)),
-                    ay: f8(one.map(|l| l.ggx.ay)),
-                },
-                rough: F8::mask(one.map(|l| l.rough)),
-                importance: mode == TransportMode::Importance,
-            };
+            let lanes = Gather::gather::<F8>(&ds.map(|d| d.lanes(mode)));
             let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &ds[k] as &dyn BsdfModel);
             samples += compare(&mut rng, &scalar, &lanes, mode);
         }

@@ -36,7 +36,7 @@ pub use phong::PhongBsdf;
 pub use plastic::{Coating, Plastic};
 
 use glam::{Vec2, Vec3};
-use penumbra_core::lanes::{Real, V3};
+use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::Rgb;
 
 /// Which quantity a path carries: radiance from the camera's side, or importance from the
@@ -107,6 +107,23 @@ pub trait LaneKernel<R: Real> {
     fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R;
     /// A direction from the whole BSDF: `u_lobe` chooses among lobes, `u` within one.
     fn sample(&self, wo: V3<R>, u_lobe: R, u: (R, R)) -> LaneSample<R>;
+}
+
+/// A kind's one-lane instance that eight of make an eight-lane one (the wavefront's
+/// gather): `Self` is the kind's kernel at `f32`, `Lanes<L>` the same kernel at `L`.
+pub trait Gather: Copy {
+    type Lanes<L: Lane8>: LaneKernel<L>;
+    fn gather<L: Lane8>(one: &[Self; 8]) -> Self::Lanes<L>;
+}
+
+/// Lane `k` of the result holds `v[k]`.
+#[inline(always)]
+pub(crate) fn gather_v3<L: Lane8>(v: [V3<f32>; 8]) -> V3<L> {
+    V3::new(
+        L::from_array(v.map(|v| v.x)),
+        L::from_array(v.map(|v| v.y)),
+        L::from_array(v.map(|v| v.z)),
+    )
 }
 
 /// The scalar [`BsdfModel`] methods `eval`, `pdf` and `sample` of a kind whose

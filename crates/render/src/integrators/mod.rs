@@ -4,6 +4,7 @@
 //! in [`IntegratorKind`] and one arm in [`IntegratorKind::create`].
 
 mod bdpt;
+mod bsdf_lanes;
 mod diffuse_lanes;
 mod direct;
 mod env;

@@ -5,7 +5,7 @@
 use super::{shadow_ray, MisHeuristic, RayCounts};
 use crate::bsdfs::{Bsdf, TransportMode};
 use crate::lights::environment::MapPoint;
-use crate::lights::{AreaLight, AreaSampling, Environment, LightSelection};
+use crate::lights::{AreaLight, AreaSampling, Environment, LightSample, LightSelection};
 use crate::{Interaction, Scene};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Real, V3};
@@ -120,7 +120,8 @@ impl ShadowTest {
 /// One light-sampling estimate for light `index`, picked with probability `p_pick`:
 /// f L cos θ V / (p_pick pdf samples), MIS-weighted against BSDF sampling when asked, with
 /// the visibility V still to be tested ([`ShadowTest::trace`]); `None` when the sample
-/// brings nothing whatever the visibility.
+/// brings nothing whatever the visibility. [`light_point`], the BSDF's value and
+/// density towards it, then [`LightPoint::finish`].
 pub(super) fn light_sample(
     scene: &Scene,
     sh: &Shading,
@@ -129,29 +130,71 @@ pub(super) fn light_sample(
     u: Vec2,
     strategy: &LightStrategy,
 ) -> Option<ShadowTest> {
+    let lp = light_point(scene, sh, index, p_pick, u, strategy)?;
+    let f = sh.bsdf.eval(sh.wo, lp.l, TransportMode::Radiance);
+    let p_bsdf = || sh.bsdf.pdf(sh.wo, lp.l, TransportMode::Radiance);
+    lp.finish(f, p_bsdf, strategy)
+}
+
+/// A light sample before the BSDF is asked about it: the direction in the shading frame,
+/// the light's sample, the shadow ray.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct LightPoint {
+    /// The direction to the light in the shading frame.
+    pub l: Vec3,
+    pub ls: LightSample,
+    pub p_pick: f32,
+    pub ray: Ray,
+    pub t_max: f32,
+}
+
+/// The first half of [`light_sample`]: the point on the light, where it brings light and
+/// the normals agree on its side.
+pub(super) fn light_point(
+    scene: &Scene,
+    sh: &Shading,
+    index: u32,
+    p_pick: f32,
+    u: Vec2,
+    strategy: &LightStrategy,
+) -> Option<LightPoint> {
     let light = &scene.lights.lights()[index as usize];
     let ls = light.sample_li(sh.origin, u, strategy.sampling)?;
     if ls.li.is_black() || !ls.wi.is_finite() {
         return None;
     }
     let l = sh.local(ls.wi)?;
-    let f_cos = sh.bsdf.eval(sh.wo, l, TransportMode::Radiance) * l.z.abs();
-    if f_cos.is_black() {
-        return None;
-    }
     let (ray, t_max) = shadow_ray(sh.origin_towards(ls.wi), &ls);
-    let weight = match strategy.mis {
-        Some((heuristic, n_bsdf)) if !ls.delta => {
-            let p_bsdf = sh.bsdf.pdf(sh.wo, l, TransportMode::Radiance);
-            heuristic.weight(strategy.samples * p_pick * ls.pdf, n_bsdf * p_bsdf)
-        }
-        _ => 1.0,
-    };
-    Some(ShadowTest {
+    Some(LightPoint {
+        l,
+        ls,
+        p_pick,
         ray,
         t_max,
-        value: f_cos * ls.li * (weight / (p_pick * ls.pdf * strategy.samples)),
     })
+}
+
+impl LightPoint {
+    /// The second half of [`light_sample`], given the BSDF's value `f` towards the light
+    /// and its density (asked for only when weighed).
+    pub fn finish(&self, f: Rgb, p_bsdf: impl FnOnce() -> f32, strategy: &LightStrategy) -> Option<ShadowTest> {
+        let (ls, p_pick) = (&self.ls, self.p_pick);
+        let f_cos = f * self.l.z.abs();
+        if f_cos.is_black() {
+            return None;
+        }
+        let weight = match strategy.mis {
+            Some((heuristic, n_bsdf)) if !ls.delta => {
+                heuristic.weight(strategy.samples * p_pick * ls.pdf, n_bsdf * p_bsdf())
+            }
+            _ => 1.0,
+        };
+        Some(ShadowTest {
+            ray: self.ray,
+            t_max: self.t_max,
+            value: f_cos * ls.li * (weight / (p_pick * ls.pdf * strategy.samples)),
+        })
+    }
 }
 
 /// The MIS weight of a BSDF sample (density `n_bsdf` x `p_bsdf`) that left the scene in

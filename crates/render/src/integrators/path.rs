@@ -20,10 +20,11 @@
 //! order a path traced alone would, so a batch gives exactly the radiance of its paths
 //! traced one by one ([`PathTracer::li`] is a batch of one).
 
+use super::bsdf_lanes::{BsdfAnswer, BsdfQuery, Buckets};
 use super::nee::{self, LightStrategy, Shading};
 use super::path_diffuse::LaneTable;
 use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts, Splat};
-use crate::bsdfs::TransportMode;
+use crate::bsdfs::{Bsdf, BsdfSample};
 use crate::interface::Progress;
 use crate::lights::{AreaSampling, LightSelection};
 use crate::Scene;
@@ -191,6 +192,12 @@ impl PathTracer {
         let mut shadow_rays = [(no_ray, 0.0f32); N];
         let mut shadow_light = [(0usize, Rgb::BLACK); N];
         let mut blocked = [false; N];
+        // The shading points of a depth (other than the lanes' Lambertian triangles), what
+        // each asks of its BSDF and the answers, the light samples waiting for them.
+        let mut its = Vec::with_capacity(N);
+        let (mut queries, mut answers, mut points) =
+            (Vec::with_capacity(N), Vec::with_capacity(N), Vec::with_capacity(N));
+        let mut buckets = Buckets::default();
         // The paths still alive, compacted as paths end.
         for (i, l) in live.iter_mut().enumerate() {
             *l = i;
@@ -224,10 +231,9 @@ impl PathTracer {
                 }
             }
 
-            // Emission met, a light sample (its shadow ray kept for later) and the
-            // continuation at each surface; plain Lambertian surfaces after the others,
-            // eight at a time.
-            let mut m = 0;
+            // Emission met at each surface, and where paths end; plain Lambertian triangles
+            // after the others, eight at a time.
+            its.clear();
             for &(k, hit) in &others {
                 let path = &mut paths[live[k]];
                 let Some(hit) = hit else {
@@ -247,8 +253,8 @@ impl PathTracer {
                     path.alive = false;
                     continue;
                 };
-                let it = &scene.interaction(&path.ray, &hit);
-                if let Some((index, light)) = scene.emitter_at(it) {
+                let it = scene.interaction(&path.ray, &hit);
+                if let Some((index, light)) = scene.emitter_at(&it) {
                     let normal = light.emitter.normal_at(it.surface.p);
                     let le = light.le(it.surface.p, normal, it.wo);
                     if !le.is_black() {
@@ -275,23 +281,47 @@ impl PathTracer {
                     path.alive = false;
                     continue;
                 }
-                let sampler = &mut samplers[live[k]];
-                let sh = Shading::new(it);
-                if sh.bsdf.has_smooth() {
+                its.push((k, it));
+            }
+            // At each shading point, in each path's order of random numbers: a light
+            // sample (the point on the light), then what the BSDF is asked (its value
+            // and density towards the light, a continuation), answered by kind in lanes.
+            let shs: Vec<Shading> = its.iter().map(|(_, it)| Shading::new(it)).collect();
+            (queries.clear(), points.clear());
+            let bsdfs: Vec<Bsdf> = shs.iter().map(|sh| sh.bsdf).collect();
+            for ((k, _), sh) in its.iter().zip(&shs) {
+                let sampler = &mut samplers[live[*k]];
+                let point = sh.bsdf.has_smooth().then(|| {
                     let u_pick = sampler.next_1d();
                     let u = sampler.next_2d();
-                    let test = scene
-                        .lights
-                        .pick(selection, u_pick)
-                        .and_then(|(index, p_pick)| nee::light_sample(scene, &sh, index, p_pick, u, &nee));
-                    if let Some(test) = test {
-                        // What the light brings if visible, with the throughput up to here.
-                        shadow_rays[m] = (test.ray, test.t_max);
-                        shadow_light[m] = (live[k], path.beta * test.value);
-                        m += 1;
-                    }
+                    let (index, p_pick) = scene.lights.pick(selection, u_pick)?;
+                    nee::light_point(scene, sh, index, p_pick, u, &nee)
+                });
+                let point = point.flatten();
+                let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
+                queries.push(BsdfQuery {
+                    wo: sh.wo,
+                    light: point.map(|p| (p.l, !p.ls.delta)),
+                    u_lobe,
+                    u,
+                });
+                points.push(point);
+            }
+            answers.resize(queries.len(), BsdfAnswer::default());
+            buckets.answer(&bsdfs, &queries, &mut answers);
+            // The light samples' shadow rays (kept for later) and the continuations.
+            let mut m = 0;
+            for (j, ((k, _), sh)) in its.iter().zip(&shs).enumerate() {
+                let path = &mut paths[live[*k]];
+                let a = &answers[j];
+                if let Some(test) = points[j].and_then(|p| p.finish(a.f, || a.pdf, &nee)) {
+                    // What the light brings if visible, with the throughput up to here.
+                    shadow_rays[m] = (test.ray, test.t_max);
+                    shadow_light[m] = (live[*k], path.beta * test.value);
+                    m += 1;
                 }
-                path.alive = self.continue_path(&sh, path, sampler, depth, counts);
+                let sampler = &mut samplers[live[*k]];
+                path.alive = self.continue_with(sh, path, a.sample, sampler, depth, counts);
             }
 
             let mut shadows = Shadows {
@@ -326,18 +356,18 @@ impl PathTracer {
         }
     }
 
-    /// Draws the continuation of `path` at `sh` from the whole BSDF (delta lobes included)
-    /// and plays Russian roulette; whether the path goes on.
-    fn continue_path(
+    /// Continues `path` at `sh` along `bs`, drawn from the whole BSDF (delta lobes
+    /// included), and plays Russian roulette; whether the path goes on.
+    fn continue_with(
         &self,
         sh: &Shading,
         path: &mut PathState,
+        bs: Option<BsdfSample>,
         sampler: &mut PixelSampler,
         depth: u32,
         counts: &mut RayCounts,
     ) -> bool {
-        let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
-        let Some(bs) = sh.bsdf.sample(sh.wo, u_lobe, u, TransportMode::Radiance) else {
+        let Some(bs) = bs else {
             return false;
         };
         let wi = sh.frame.to_world(bs.wi);

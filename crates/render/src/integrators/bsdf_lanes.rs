@@ -1,0 +1,225 @@
+//! The wavefront's BSDF stage: every shading point of a depth asks its BSDF for a sample
+//! and, where a light sample waits, for the BSDF's value and density towards the light.
+//! Points are bucketed by BSDF kind (as wavefront renderers sort hits by material: Laine,
+//! Karras and Aila 2013); each kind with a lane kernel ([`Gather`], [`LaneKernel`]) answers
+//! eight points per pass of eight-lane instructions at the CPU's SIMD level, the other
+//! kinds one point at a time. A lane gives the bits its kind's scalar BSDF gives (the
+//! scalar BSDF is the kernel's one-lane instance), so the image does not depend on the
+//! bucketing.
+
+use crate::bsdfs::{Bsdf, BsdfKind, BsdfSample, Gather, LaneKernel, TransportMode};
+use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Lane8, F8, V3};
+#[cfg(target_arch = "x86_64")]
+use penumbra_core::lanes_avx::F8Avx;
+use penumbra_core::simd::{self, Level};
+use penumbra_core::Rgb;
+
+/// What one shading point asks of its BSDF (radiance mode), in the shading frame.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct BsdfQuery {
+    pub wo: Vec3,
+    /// The direction to a light sample, if one waits, and whether its density is needed.
+    pub light: Option<(Vec3, bool)>,
+    pub u_lobe: f32,
+    pub u: Vec2,
+}
+
+/// The BSDF's answers: value and density towards the light (zero without one), a sample.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct BsdfAnswer {
+    pub f: Rgb,
+    pub pdf: f32,
+    pub sample: Option<BsdfSample>,
+}
+
+/// The buckets of one depth's shading points, by index, kept between depths.
+#[derive(Default)]
+pub(super) struct Buckets {
+    diffuse: Vec<usize>,
+    conductor: Vec<usize>,
+    dielectric: Vec<usize>,
+}
+
+/// z flipped: the direction mirrored through the tangent plane (a two-sided BSDF seen
+/// from behind works on the front).
+#[inline]
+fn flip(w: Vec3) -> Vec3 {
+    Vec3::new(w.x, w.y, -w.z)
+}
+
+impl Buckets {
+    /// Answers `queries[i]` for `bsdfs[i]` into `out[i]`.
+    pub fn answer(&mut self, bsdfs: &[Bsdf], queries: &[BsdfQuery], out: &mut [BsdfAnswer]) {
+        self.diffuse.clear();
+        self.conductor.clear();
+        self.dielectric.clear();
+        for (i, (bsdf, q)) in bsdfs.iter().zip(queries).enumerate() {
+            match bsdf.kind {
+                BsdfKind::Diffuse(_) => self.diffuse.push(i),
+                BsdfKind::Conductor(_) => self.conductor.push(i),
+                BsdfKind::Dielectric(_) => self.dielectric.push(i),
+                _ => out[i] = answer_one(bsdf, q),
+            }
+        }
+        let mode = TransportMode::Radiance;
+        let (d, c, g) = (&self.diffuse, &self.conductor, &self.dielectric);
+        for group in d.chunks(8) {
+            answer_lanes(group, bsdfs, queries, out, |b| match b {
+                BsdfKind::Diffuse(d) => d.lanes(mode),
+                _ => unreachable!("the diffuse bucket holds diffuse BSDFs"),
+            });
+        }
+        for group in c.chunks(8) {
+            answer_lanes(group, bsdfs, queries, out, |b| match b {
+                BsdfKind::Conductor(c) => c.lanes(mode),
+                _ => unreachable!("the conductor bucket holds conductors"),
+            });
+        }
+        for group in g.chunks(8) {
+            answer_lanes(group, bsdfs, queries, out, |b| match b {
+                BsdfKind::Dielectric(d) => d.lanes(mode),
+                _ => unreachable!("the dielectric bucket holds dielectrics"),
+            });
+        }
+    }
+}
+
+/// One point's answers from its scalar BSDF.
+fn answer_one(bsdf: &Bsdf, q: &BsdfQuery) -> BsdfAnswer {
+    let mode = TransportMode::Radiance;
+    let (f, pdf) = match q.light {
+        Some((l, need_pdf)) => (
+            bsdf.eval(q.wo, l, mode),
+            if need_pdf { bsdf.pdf(q.wo, l, mode) } else { 0.0 },
+        ),
+        None => (Rgb::BLACK, 0.0),
+    };
+    BsdfAnswer {
+        f,
+        pdf,
+        sample: bsdf.sample(q.wo, q.u_lobe, q.u, mode),
+    }
+}
+
+/// The inputs of eight lanes, in columns.
+struct Columns {
+    wo: [[f32; 8]; 3],
+    l: [[f32; 8]; 3],
+    u_lobe: [f32; 8],
+    u: [[f32; 8]; 2],
+}
+
+/// What eight lanes answered, in columns.
+struct Results {
+    f: [[f32; 8]; 3],
+    pdf: [f32; 8],
+    wi: [[f32; 8]; 3],
+    weight: [[f32; 8]; 3],
+    sample_pdf: [f32; 8],
+    eta: [f32; 8],
+    delta: u32,
+    ok: u32,
+}
+
+/// The points `group` (up to eight) of one kind, whose one-lane kernels `kernel` gives,
+/// answered in lanes; lanes past the group's end repeat its last point and are dropped.
+fn answer_lanes<G: Gather>(
+    group: &[usize],
+    bsdfs: &[Bsdf],
+    queries: &[BsdfQuery],
+    out: &mut [BsdfAnswer],
+    kernel: impl Fn(&BsdfKind) -> G,
+) {
+    let n = group.len();
+    let at = |j: usize| group[j.min(n - 1)];
+    // Two-sided BSDFs seen from behind work on mirrored directions (`Bsdf`'s rule).
+    let mirrored: [bool; 8] = std::array::from_fn(|j| {
+        let i = at(j);
+        bsdfs[i].two_sided && queries[i].wo.z < 0.0
+    });
+    let side = |j: usize, w: Vec3| if mirrored[j] { flip(w) } else { w };
+    let one: [G; 8] = std::array::from_fn(|j| kernel(&bsdfs[at(j)].kind));
+    let mut c = Columns {
+        wo: [[0.0; 8]; 3],
+        l: [[0.0; 8]; 3],
+        u_lobe: [0.0; 8],
+        u: [[0.0; 8]; 2],
+    };
+    for j in 0..8 {
+        let q = &queries[at(j)];
+        let (wo, l) = (side(j, q.wo), side(j, q.light.map_or(Vec3::Z, |(l, _)| l)));
+        for (axis, (a, b)) in [(wo.x, l.x), (wo.y, l.y), (wo.z, l.z)].into_iter().enumerate() {
+            (c.wo[axis][j], c.l[axis][j]) = (a, b);
+        }
+        c.u_lobe[j] = q.u_lobe;
+        (c.u[0][j], c.u[1][j]) = (q.u.x, q.u.y);
+    }
+    let r = run_kernel(&one, &c);
+    let v3 = |a: &[[f32; 8]; 3], j: usize| Vec3::new(a[0][j], a[1][j], a[2][j]);
+    for (j, &i) in group.iter().enumerate() {
+        let lit = queries[i].light.is_some();
+        let f = v3(&r.f, j);
+        let sample = (r.ok >> j & 1 != 0)
+            .then(|| BsdfSample {
+                wi: side(j, v3(&r.wi, j)),
+                weight: Rgb::new(r.weight[0][j], r.weight[1][j], r.weight[2][j]),
+                pdf: r.sample_pdf[j],
+                delta: r.delta >> j & 1 != 0,
+                eta: r.eta[j],
+            })
+            // `BsdfKind::sample`'s rule: no sample of zero density or non-finite values.
+            .filter(|s| s.pdf > 0.0 && s.weight.is_finite() && s.wi.is_finite());
+        out[i] = BsdfAnswer {
+            f: if lit { Rgb::new(f.x, f.y, f.z) } else { Rgb::BLACK },
+            pdf: if lit { r.pdf[j] } else { 0.0 },
+            sample,
+        };
+    }
+}
+
+/// The lanes' arithmetic in lane type `L`.
+#[inline(always)]
+fn kernel<G: Gather, L: Lane8>(one: &[G; 8], c: &Columns) -> Results {
+    let k = G::gather::<L>(one);
+    let v3 = |a: &[[f32; 8]; 3]| V3::new(L::from_array(a[0]), L::from_array(a[1]), L::from_array(a[2]));
+    let (wo, l) = (v3(&c.wo), v3(&c.l));
+    let f = k.eval(wo, l);
+    let pdf = k.pdf(wo, l);
+    let s = k.sample(
+        wo,
+        L::from_array(c.u_lobe),
+        (L::from_array(c.u[0]), L::from_array(c.u[1])),
+    );
+    let columns = |v: V3<L>| [v.x.to_array(), v.y.to_array(), v.z.to_array()];
+    Results {
+        f: columns(f),
+        pdf: pdf.to_array(),
+        wi: columns(s.wi),
+        weight: columns(s.weight),
+        sample_pdf: s.pdf.to_array(),
+        eta: s.eta.to_array(),
+        delta: L::bits(s.delta),
+        ok: L::bits(s.ok),
+    }
+}
+
+/// [`kernel`] at the SIMD level the CPU runs ([`simd::level`]); the same floats at every
+/// level.
+fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
+    #[cfg(target_arch = "x86_64")]
+    penumbra_core::level_fns! {
+        /// The kernel compiled for AVX2 and for AVX-512, in `F8Avx` lanes.
+        unsafe fn [avx2, avx512]<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
+            kernel::<G, F8Avx>(one, c)
+        }
+    }
+    // SAFETY: the CPU runs the level's instructions (checked when the level was chosen).
+    #[cfg(target_arch = "x86_64")]
+    match simd::level() {
+        Level::Avx512 => return unsafe { avx512(one, c) },
+        Level::Avx2 => return unsafe { avx2(one, c) },
+        Level::Sse2 => {}
+    }
+    kernel::<G, F8>(one, c)
+}
