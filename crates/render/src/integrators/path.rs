@@ -287,7 +287,8 @@ impl PathTracer {
             // sample (the point on the light), then what the BSDF is asked (its value
             // and density towards the light, a continuation), answered by kind in lanes.
             let shs: Vec<Shading> = its.iter().map(|(_, it)| Shading::new(it)).collect();
-            (queries.clear(), points.clear());
+            queries.clear();
+            points.clear();
             let bsdfs: Vec<Bsdf> = shs.iter().map(|sh| sh.bsdf).collect();
             for ((k, _), sh) in its.iter().zip(&shs) {
                 let sampler = &mut samplers[live[*k]];
