@@ -97,6 +97,9 @@ pub trait Real:
     /// The coordinate `self` of a surface point moved along the normal component `n` by a
     /// few units in the last place ([`crate::ray::offset_origin`], one coordinate).
     fn offset_along(self, n: Self) -> Self;
+    /// Lane `k` of the result is `f(k, lane k of self)`: a scalar step per lane, for what
+    /// lanes cannot do together (a lookup in a table of the lane's own).
+    fn lanes_map(self, f: impl Fn(usize, f32) -> f32) -> Self;
 }
 
 /// [`Real::offset_along`]'s constants (Wächter and Binder 2019): below `ORIGIN` a fixed
@@ -168,6 +171,10 @@ impl Real for f32 {
         }
     }
     #[inline(always)]
+    fn lanes_map(self, f: impl Fn(usize, f32) -> f32) -> Self {
+        f(0, self)
+    }
+    #[inline(always)]
     fn offset_along(self, n: Self) -> Self {
         if self.abs() < ORIGIN {
             self + FLOAT_SCALE * n
@@ -229,6 +236,11 @@ impl Real for F8 {
     #[inline(always)]
     fn select(mask: wide::f32x8, t: Self, f: Self) -> Self {
         F8(mask.blend(t.0, f.0))
+    }
+    #[inline(always)]
+    fn lanes_map(self, f: impl Fn(usize, f32) -> f32) -> Self {
+        let a = self.to_array();
+        F8::from(std::array::from_fn::<f32, 8, _>(|k| f(k, a[k])))
     }
     #[inline(always)]
     fn offset_along(self, n: Self) -> Self {

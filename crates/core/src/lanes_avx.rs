@@ -111,6 +111,11 @@ impl Real for F8Avx {
         // SAFETY: see the module's note.
         F8Avx(unsafe { _mm256_blendv_ps(f.0, t.0, mask) })
     }
+    #[inline(always)]
+    fn lanes_map(self, f: impl Fn(usize, f32) -> f32) -> Self {
+        let a = Lane8::to_array(self);
+        Self::from_array(std::array::from_fn(|k| f(k, a[k])))
+    }
     /// [`Real::offset_along`] as `f32` computes it: the integer step truncated towards
     /// zero, saturated, NaN giving 0 (as `as i32` does).
     #[inline(always)]

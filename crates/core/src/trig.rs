@@ -53,7 +53,7 @@ fn atan_unit<R: Real>(x: R) -> R {
 
 /// The angle of the point (x, y) from the x axis, in [-π, π], as `f32::atan2` gives it
 /// (up to its rounding); 0 at the origin. The smaller coordinate over the larger goes to
-/// [`atan_unit`], and the octant is restored by symmetries.
+/// the unit interval's arctangent, and the octant is restored by symmetries.
 #[inline(always)]
 pub fn atan2<R: Real>(y: R, x: R) -> R {
     let c = R::splat;

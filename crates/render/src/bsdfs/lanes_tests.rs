@@ -137,3 +137,35 @@ fn dielectric_lanes_equal_the_scalar_dielectric_bit_for_bit() {
         assert!(samples > 2 * AT_LEAST, "{mode:?}: only {samples} samples existed");
     }
 }
+
+#[test]
+fn plastic_lanes_equal_the_scalar_plastic_bit_for_bit() {
+    let mut rng = Pcg32::new(14, 5);
+    // Smooth and rough coatings of a few indices and roughnesses, tables made once.
+    let coats: Vec<(f32, Option<Ggx>, Coating)> = [(1.5, 0.0), (1.5, 0.1), (1.33, 0.3), (1.9, 0.05)]
+        .into_iter()
+        .map(|(eta, alpha)| {
+            let ggx = Ggx::new(alpha, alpha);
+            let coating = ggx.map_or(Coating::smooth(eta), |g| Coating::rough(eta, g));
+            (eta, ggx, coating)
+        })
+        .collect();
+    let mut samples = 0;
+    for _ in 0..ROUNDS {
+        let ps: [Plastic; 8] = std::array::from_fn(|k| {
+            let (eta, alpha, coating) = &coats[(k + rng.next_below(4) as usize) % 4];
+            Plastic {
+                diffuse: Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()),
+                specular: Rgb::splat(rng.next_f32()),
+                eta: *eta,
+                coating,
+                specular_weight: rng.next_f32(),
+                alpha: *alpha,
+            }
+        });
+        let lanes = Gather::gather::<F8>(&ps.map(|p| p.lanes(TransportMode::Radiance)));
+        let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &ps[k] as &dyn BsdfModel);
+        samples += compare(&mut rng, &scalar, &lanes, TransportMode::Radiance);
+    }
+    assert!(samples > AT_LEAST, "only {samples} samples existed");
+}

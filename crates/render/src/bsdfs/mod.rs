@@ -33,7 +33,7 @@ pub use dielectric::{Dielectric, DielectricLanes, Lobe};
 pub use diffuse::{Diffuse, DiffuseLanes};
 pub use layered::{LayerBase, Layered};
 pub use phong::PhongBsdf;
-pub use plastic::{Coating, Plastic};
+pub use plastic::{Coating, Plastic, PlasticLanes};
 
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, Real, V3};

@@ -13,9 +13,13 @@
 //! env-materials sphere 15% brighter than Mitsuba's.
 
 use super::microfacet::Ggx;
-use super::{reflect_z, BsdfModel, BsdfSample, SpecularRays, TransportMode};
+use super::{
+    gather_v3, one_lane_methods, reflect_z, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays,
+    TransportMode,
+};
 use crate::optics::fresnel_dielectric;
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::{warp, Rgb};
 use std::f32::consts::FRAC_1_PI;
 
@@ -55,18 +59,26 @@ impl Coating {
             transmittance: Some(transmittance),
         }
     }
+}
 
-    /// The share of light arriving at cosine `cos` that enters the coating (or leaves it
-    /// towards `cos`): the table linearly interpolated, or 1 - F.
+impl Coating {
+    /// [`PlasticLanes`]'s transmittance for one path, for the tests of the tables.
+    #[cfg(test)]
     fn transmittance(&self, cos: f32, eta: f32) -> f32 {
-        let Some(table) = &self.transmittance else {
-            return 1.0 - fresnel_dielectric(cos, eta);
-        };
-        let x = cos.clamp(0.0, 1.0) * (TABLE - 1) as f32;
-        let k = (x as usize).min(TABLE - 2);
-        let w = x - k as f32;
-        (1.0 - w) * table[k] + w * table[k + 1]
+        match &self.transmittance {
+            Some(t) => interpolate(t, cos),
+            None => 1.0 - fresnel_dielectric(cos, eta),
+        }
     }
+}
+
+/// The table `t` of a rough coating linearly interpolated at cosine `cos`.
+#[inline(always)]
+fn interpolate(t: &[f32; TABLE], cos: f32) -> f32 {
+    let x = cos.clamp(0.0, 1.0) * (TABLE - 1) as f32;
+    let k = (x as usize).min(TABLE - 2);
+    let w = x - k as f32;
+    (1.0 - w) * t[k] + w * t[k + 1]
 }
 
 /// The mean of `f(wo, u)` over the unit square by the midpoint rule on 32 x 32 cells, with
@@ -127,80 +139,148 @@ pub struct Plastic<'a> {
     pub alpha: Option<Ggx>,
 }
 
-impl Plastic<'_> {
-    /// Probability of sampling the coating's reflection, seen from `wo`.
-    fn specular_probability(&self, cos_o: f32) -> f32 {
-        let t = self.coating.transmittance(cos_o, self.eta);
-        let ps = (1.0 - t) * self.specular_weight;
-        let pd = t * (1.0 - self.specular_weight);
-        if ps + pd > 0.0 {
-            ps / (ps + pd)
-        } else {
-            0.0
+/// Plastic in lanes of any [`Real`] type (up to eight), each lane its own material and
+/// coating table.
+#[derive(Clone, Copy, Debug)]
+pub struct PlasticLanes<'a, R: Real> {
+    pub diffuse: V3<R>,
+    pub specular: V3<R>,
+    pub eta: R,
+    /// F_dr,int of each lane's coating.
+    pub internal_reflectance: R,
+    /// Each lane's transmittance table (`None`: a smooth coating's 1 - F).
+    pub tables: [Option<&'a [f32; TABLE]>; 8],
+    pub specular_weight: R,
+    /// The microfacet distribution (any positive roughness where `rough` does not hold).
+    pub ggx: Ggx<R>,
+    pub rough: R::Mask,
+}
+
+impl<'a> Plastic<'a> {
+    /// The one-lane instance of the arithmetic.
+    #[inline(always)]
+    pub fn lanes(&self, _mode: TransportMode) -> PlasticLanes<'a, f32> {
+        let mut tables = [None; 8];
+        tables[0] = self.coating.transmittance.as_deref();
+        PlasticLanes {
+            diffuse: self.diffuse.into(),
+            specular: self.specular.into(),
+            eta: self.eta,
+            internal_reflectance: self.coating.internal_reflectance,
+            tables,
+            specular_weight: self.specular_weight,
+            ggx: self.alpha.unwrap_or(Ggx { ax: 1.0, ay: 1.0 }),
+            rough: self.alpha.is_some(),
         }
     }
+}
 
-    fn diffuse_part(&self, cos_o: f32, cos_i: f32) -> Rgb {
-        let c = self.coating;
-        let t = c.transmittance(cos_i, self.eta) * c.transmittance(cos_o, self.eta);
-        self.diffuse * (t * FRAC_1_PI / (self.eta * self.eta * (1.0 - c.internal_reflectance)))
+impl<'a> Gather for PlasticLanes<'a, f32> {
+    type Lanes<L: Lane8> = PlasticLanes<'a, L>;
+    #[inline(always)]
+    fn gather<L: Lane8>(one: &[Self; 8]) -> PlasticLanes<'a, L> {
+        PlasticLanes {
+            diffuse: gather_v3(one.map(|p| p.diffuse)),
+            specular: gather_v3(one.map(|p| p.specular)),
+            eta: L::from_array(one.map(|p| p.eta)),
+            internal_reflectance: L::from_array(one.map(|p| p.internal_reflectance)),
+            tables: one.map(|p| p.tables[0]),
+            specular_weight: L::from_array(one.map(|p| p.specular_weight)),
+            ggx: Ggx {
+                ax: L::from_array(one.map(|p| p.ggx.ax)),
+                ay: L::from_array(one.map(|p| p.ggx.ay)),
+            },
+            rough: L::mask_of(one.map(|p| p.rough)),
+        }
+    }
+}
+
+impl<R: Real> PlasticLanes<'_, R> {
+    /// The share of light arriving at cosine `cos` that enters the coating (or leaves it
+    /// towards `cos`): the lane's table linearly interpolated, or 1 - F.
+    #[inline(always)]
+    fn transmittance(&self, cos: R) -> R {
+        let smooth = R::splat(1.0) - fresnel_dielectric(cos, self.eta);
+        let tabulated = cos.lanes_map(|k, c| self.tables[k].map_or(0.0, |t| interpolate(t, c)));
+        let has_table = R::splat(0.0).lanes_map(|k, _| if self.tables[k].is_some() { 1.0 } else { 0.0 });
+        R::select(has_table.cmp_gt(R::splat(0.0)), tabulated, smooth)
+    }
+
+    /// Probability of sampling the coating's reflection, seen from cosine `cos_o`.
+    #[inline(always)]
+    fn specular_probability(&self, cos_o: R) -> R {
+        let one = R::splat(1.0);
+        let t = self.transmittance(cos_o);
+        let ps = (one - t) * self.specular_weight;
+        let pd = t * (one - self.specular_weight);
+        R::select((ps + pd).cmp_gt(R::splat(0.0)), ps / (ps + pd), R::splat(0.0))
+    }
+
+    #[inline(always)]
+    fn diffuse_part(&self, cos_o: R, cos_i: R) -> V3<R> {
+        let t = self.transmittance(cos_i) * self.transmittance(cos_o);
+        let scale = t * R::splat(FRAC_1_PI) / (self.eta * self.eta * (R::splat(1.0) - self.internal_reflectance));
+        self.diffuse.scale(scale)
+    }
+}
+
+impl<R: Real> LaneKernel<R> for PlasticLanes<'_, R> {
+    #[inline(always)]
+    fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
+        let zero = R::splat(0.0);
+        let f = self.diffuse_part(wo.z, wi.z);
+        let (m, ok) = Ggx::half_vector_lanes(wo, wi);
+        let glossy = self
+            .specular
+            .scale(fresnel_dielectric(wo.dot(m), self.eta) * self.ggx.reflection(wo, wi, m));
+        let f = V3::select(R::and(self.rough, ok), f + glossy, f);
+        let front = R::not(R::or(wo.z.cmp_le(zero), wi.z.cmp_le(zero)));
+        V3::select(front, f, V3::splat(0.0))
+    }
+
+    #[inline(always)]
+    fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
+        let zero = R::splat(0.0);
+        let ps = self.specular_probability(wo.z);
+        let pdf = (R::splat(1.0) - ps) * (wi.z.max(zero) * R::splat(FRAC_1_PI));
+        let (m, ok) = Ggx::half_vector_lanes(wo, wi);
+        let pdf = R::select(R::and(self.rough, ok), pdf + ps * self.ggx.reflection_pdf(wo, m), pdf);
+        let front = R::not(R::or(wo.z.cmp_le(zero), wi.z.cmp_le(zero)));
+        R::select(front, pdf, zero)
+    }
+
+    #[inline(always)]
+    fn sample(&self, wo: V3<R>, u: R, u2: (R, R)) -> LaneSample<R> {
+        let (zero, one) = (R::splat(0.0), R::splat(1.0));
+        let ps = self.specular_probability(wo.z);
+        let specular = u.cmp_lt(ps);
+        let mirror = R::and(specular, R::not(self.rough));
+        let glossy = R::and(specular, self.rough);
+        let (reflected, _, reflects) = self.ggx.sample_reflection_lanes(wo, u2);
+        let wi = V3::select(glossy, reflected, warp::cosine_hemisphere_lanes(u2.0, u2.1));
+        let pdf = self.pdf(wo, wi);
+        let weight = self.eval(wo, wi).scale(wi.z / pdf);
+        let exists = R::and(
+            R::and(R::or(R::not(glossy), reflects), R::not(wi.z.cmp_le(zero))),
+            pdf.cmp_gt(zero),
+        );
+        LaneSample {
+            wi: V3::select(mirror, V3::new(-wo.x, -wo.y, wo.z), wi),
+            weight: V3::select(
+                mirror,
+                self.specular.scale(fresnel_dielectric(wo.z, self.eta) / ps),
+                weight,
+            ),
+            pdf: R::select(mirror, ps, pdf),
+            delta: mirror,
+            eta: one,
+            ok: R::and(R::not(wo.z.cmp_le(zero)), R::or(mirror, exists)),
+        }
     }
 }
 
 impl BsdfModel for Plastic<'_> {
-    fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Rgb {
-        if wo.z <= 0.0 || wi.z <= 0.0 {
-            return Rgb::BLACK;
-        }
-        let mut f = self.diffuse_part(wo.z, wi.z);
-        if let (Some(ggx), Some(m)) = (self.alpha, Ggx::reflection_half_vector(wo, wi)) {
-            f += self.specular * (fresnel_dielectric(wo.dot(m), self.eta) * ggx.reflection(wo, wi, m));
-        }
-        f
-    }
-
-    fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> f32 {
-        if wo.z <= 0.0 || wi.z <= 0.0 {
-            return 0.0;
-        }
-        let ps = self.specular_probability(wo.z);
-        let mut pdf = (1.0 - ps) * warp::cosine_hemisphere_pdf(wi);
-        if let (Some(ggx), Some(m)) = (self.alpha, Ggx::reflection_half_vector(wo, wi)) {
-            pdf += ps * ggx.reflection_pdf(wo, m);
-        }
-        pdf
-    }
-
-    fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
-        if wo.z <= 0.0 {
-            return None;
-        }
-        let ps = self.specular_probability(wo.z);
-        if u < ps && self.alpha.is_none() {
-            return Some(BsdfSample {
-                wi: reflect_z(wo),
-                weight: self.specular * (fresnel_dielectric(wo.z, self.eta) / ps),
-                pdf: ps,
-                delta: true,
-                eta: 1.0,
-            });
-        }
-        let wi = match self.alpha {
-            Some(ggx) if u < ps => ggx.sample_reflection(wo, u2)?.0,
-            _ => warp::cosine_hemisphere(u2),
-        };
-        if wi.z <= 0.0 {
-            return None;
-        }
-        let pdf = self.pdf(wo, wi, mode);
-        (pdf > 0.0).then(|| BsdfSample {
-            wi,
-            weight: self.eval(wo, wi, mode) * (wi.z / pdf),
-            pdf,
-            delta: false,
-            eta: 1.0,
-        })
-    }
+    one_lane_methods!();
 
     fn specular_rays(&self, wo: Vec3, _mode: TransportMode, rays: &mut SpecularRays) {
         if self.alpha.is_none() && wo.z > 0.0 {

@@ -39,6 +39,7 @@ pub(super) struct Buckets {
     diffuse: Vec<usize>,
     conductor: Vec<usize>,
     dielectric: Vec<usize>,
+    plastic: Vec<usize>,
 }
 
 /// z flipped: the direction mirrored through the tangent plane (a two-sided BSDF seen
@@ -50,20 +51,22 @@ fn flip(w: Vec3) -> Vec3 {
 
 impl Buckets {
     /// Answers `queries[i]` for `bsdfs[i]` into `out[i]`.
-    pub fn answer(&mut self, bsdfs: &[Bsdf], queries: &[BsdfQuery], out: &mut [BsdfAnswer]) {
+    pub fn answer<'s>(&mut self, bsdfs: &[Bsdf<'s>], queries: &[BsdfQuery], out: &mut [BsdfAnswer]) {
         self.diffuse.clear();
         self.conductor.clear();
         self.dielectric.clear();
+        self.plastic.clear();
         for (i, (bsdf, q)) in bsdfs.iter().zip(queries).enumerate() {
             match bsdf.kind {
                 BsdfKind::Diffuse(_) => self.diffuse.push(i),
                 BsdfKind::Conductor(_) => self.conductor.push(i),
                 BsdfKind::Dielectric(_) => self.dielectric.push(i),
+                BsdfKind::Plastic(_) => self.plastic.push(i),
                 _ => out[i] = answer_one(bsdf, q),
             }
         }
         let mode = TransportMode::Radiance;
-        let (d, c, g) = (&self.diffuse, &self.conductor, &self.dielectric);
+        let (d, c, g, p) = (&self.diffuse, &self.conductor, &self.dielectric, &self.plastic);
         for group in d.chunks(8) {
             answer_lanes(group, bsdfs, queries, out, |b| match b {
                 BsdfKind::Diffuse(d) => d.lanes(mode),
@@ -80,6 +83,12 @@ impl Buckets {
             answer_lanes(group, bsdfs, queries, out, |b| match b {
                 BsdfKind::Dielectric(d) => d.lanes(mode),
                 _ => unreachable!("the dielectric bucket holds dielectrics"),
+            });
+        }
+        for group in p.chunks(8) {
+            answer_lanes(group, bsdfs, queries, out, |b| match b {
+                BsdfKind::Plastic(p) => p.lanes(mode),
+                _ => unreachable!("the plastic bucket holds plastics"),
             });
         }
     }
@@ -124,12 +133,12 @@ struct Results {
 
 /// The points `group` (up to eight) of one kind, whose one-lane kernels `kernel` gives,
 /// answered in lanes; lanes past the group's end repeat its last point and are dropped.
-fn answer_lanes<G: Gather>(
+fn answer_lanes<'s, G: Gather>(
     group: &[usize],
-    bsdfs: &[Bsdf],
+    bsdfs: &[Bsdf<'s>],
     queries: &[BsdfQuery],
     out: &mut [BsdfAnswer],
-    kernel: impl Fn(&BsdfKind) -> G,
+    kernel: impl Fn(&BsdfKind<'s>) -> G,
 ) {
     let n = group.len();
     let at = |j: usize| group[j.min(n - 1)];
