@@ -1,17 +1,21 @@
 //! The shading kernels one family at a time: every registered BSDF kind (sample, then eval
 //! and pdf at the sampled direction), every light kind (`sample_li` from a shading point)
 //! and every texture kind (`eval`), each over 4,096 inputs, in elements per second. Where a
-//! family has an eight-lane kernel today it is measured beside its scalar form on the same
-//! inputs (triangle-light sampling: the point by area and its solid-angle density); the
-//! other kinds have no lane form yet (issue 24), and this is where theirs will be measured.
+//! family has an eight-lane kernel it is measured beside its scalar form on the same inputs
+//! (the BSDF kinds the wavefront shades in lanes: diffuse, conductor, dielectric, plastic,
+//! at the CPU's SIMD level; triangle-light sampling: the point by area and its solid-angle
+//! density); the other kinds have no lane form yet (issue 24), and this is where theirs
+//! will be measured.
 //!
 //! `cargo bench --bench kernels` (add `-- bsdf` or `-- light` or `-- texture` for one).
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use glam::{Mat3, Vec2, Vec3};
-use penumbra::math::lanes::{Real, F8, V3};
+use penumbra::math::lanes::{Lane8, Real, F8, V3};
+#[cfg(target_arch = "x86_64")]
+use penumbra::math::lanes_avx::F8Avx;
 use penumbra::math::{warp, Pcg32, Rgb};
-use penumbra::renderer::bsdfs::{MetalFresnel, TransportMode};
+use penumbra::renderer::bsdfs::{BsdfKind, Gather, LaneKernel, MetalFresnel, TransportMode};
 use penumbra::renderer::lights::emitter::{area_to_solid_angle, triangle_point, Emitter, EmitterShape};
 use penumbra::renderer::lights::{AreaLight, AreaSampling, Directional, Environment, Point, Spot};
 use penumbra::renderer::materials::{
@@ -115,7 +119,59 @@ fn bsdfs(c: &mut Criterion) {
             })
         });
     }
+    // The same inputs eight to a pass, through the kinds' lane kernels.
+    let groups: Vec<Group> = inputs.chunks(8).map(|c| std::array::from_fn(|j| c[j])).collect();
+    for (name, material) in materials() {
+        let bsdf = material.bsdf(Vec2::ZERO);
+        let run: Box<dyn Fn(&Group) -> f32> = match bsdf.kind {
+            BsdfKind::Diffuse(d) => Box::new(move |g| lanes_at_level(&[d.lanes(mode); 8], g)),
+            BsdfKind::Conductor(c) => Box::new(move |g| lanes_at_level(&[c.lanes(mode); 8], g)),
+            BsdfKind::Dielectric(d) => Box::new(move |g| lanes_at_level(&[d.lanes(mode); 8], g)),
+            BsdfKind::Plastic(p) => Box::new(move |g| lanes_at_level(&[p.lanes(mode); 8], g)),
+            _ => continue,
+        };
+        group.bench_function(BenchmarkId::new("8 lanes", name), |b| {
+            b.iter(|| black_box(groups.iter().map(&run).sum::<f32>()))
+        });
+    }
     group.finish();
+}
+
+/// Eight BSDF inputs (view, lobe number, 2D number).
+type Group = [(Vec3, f32, Vec2); 8];
+
+/// Eight inputs through a lane kernel: the sample, then eval and pdf at the sampled
+/// directions, summed as the scalar loop sums them (lanes without a sample add nothing).
+#[inline(always)]
+fn lane_pass<G: Gather, L: Lane8>(one: &[G; 8], g: &Group) -> f32 {
+    let k = G::gather::<L>(one);
+    let wo = V3::new(
+        L::from_array(g.map(|x| x.0.x)),
+        L::from_array(g.map(|x| x.0.y)),
+        L::from_array(g.map(|x| x.0.z)),
+    );
+    let u = (L::from_array(g.map(|x| x.2.x)), L::from_array(g.map(|x| x.2.y)));
+    let s = k.sample(wo, L::from_array(g.map(|x| x.1)), u);
+    let (f, pdf) = (k.eval(wo, s.wi), k.pdf(wo, s.wi));
+    let v = s.weight.x + f.y + pdf;
+    let ok = L::bits(s.ok);
+    v.to_array()
+        .iter()
+        .enumerate()
+        .filter(|(j, _)| ok >> j & 1 != 0)
+        .map(|(_, v)| v)
+        .sum()
+}
+
+/// [`lane_pass`] at the SIMD level the renderer runs.
+fn lanes_at_level<G: Gather>(one: &[G; 8], g: &Group) -> f32 {
+    #[cfg(target_arch = "x86_64")]
+    penumbra::math::level_fns! {
+        unsafe fn [avx2, avx512]<G: Gather>(one: &[G; 8], g: &Group) -> f32 {
+            lane_pass::<G, F8Avx>(one, g)
+        }
+    }
+    penumbra::math::at_level!(avx512: avx512(one, g), avx2: avx2(one, g), portable: lane_pass::<G, F8>(one, g))
 }
 
 fn lights() -> Vec<(&'static str, Light)> {

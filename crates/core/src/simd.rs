@@ -41,6 +41,26 @@ macro_rules! level_fns {
     };
 }
 
+/// Runs the kernel of the CPU's level ([`level`]): the AVX-512 expression, the AVX2 one
+/// (each calling a [`level_fns!`] function, in an `unsafe` block the macro provides), or
+/// the portable one. Safety: a level is chosen only where the CPU runs it.
+#[macro_export]
+macro_rules! at_level {
+    (avx512: $avx512:expr, avx2: $avx2:expr, portable: $portable:expr $(,)?) => {{
+        #[cfg(target_arch = "x86_64")]
+        let result = match $crate::simd::level() {
+            // SAFETY: the CPU runs the level's instructions (checked when it was chosen).
+            $crate::simd::Level::Avx512 => unsafe { $avx512 },
+            // SAFETY: as above.
+            $crate::simd::Level::Avx2 => unsafe { $avx2 },
+            $crate::simd::Level::Sse2 => $portable,
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let result = $portable;
+        result
+    }};
+}
+
 impl Level {
     /// Every level, narrowest first.
     pub const ALL: [Level; 3] = [Level::Sse2, Level::Avx2, Level::Avx512];

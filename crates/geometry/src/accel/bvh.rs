@@ -12,7 +12,6 @@ use super::{Counter, PrimitiveSet, Traverse};
 use crate::Hit;
 use glam::Vec3;
 use glam::Vec4;
-use penumbra_core::simd::{self, Level};
 use penumbra_core::{Aabb, Ray};
 use rayon::prelude::*;
 use std::mem::MaybeUninit;
@@ -401,25 +400,19 @@ const ROUNDING: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32:
 
 impl<P: PrimitiveSet> Traverse for Bvh<P> {
     fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
-        // SAFETY: the CPU runs the level's instructions (checked when the level was chosen).
-        #[cfg(target_arch = "x86_64")]
-        match simd::level() {
-            Level::Avx512 => return unsafe { self.closest_avx512(ray, t_max, stats) },
-            Level::Avx2 => return unsafe { self.closest_avx2(ray, t_max, stats) },
-            Level::Sse2 => {}
-        }
-        self.closest_hit::<C, false>(ray, t_max, stats)
+        penumbra_core::at_level!(
+            avx512: self.closest_avx512(ray, t_max, stats),
+            avx2: self.closest_avx2(ray, t_max, stats),
+            portable: self.closest_hit::<C, false>(ray, t_max, stats),
+        )
     }
 
     fn any_hit(&self, ray: &Ray, t_max: f32) -> bool {
-        // SAFETY: the CPU runs the level's instructions (checked when the level was chosen).
-        #[cfg(target_arch = "x86_64")]
-        match simd::level() {
-            Level::Avx512 => return unsafe { self.any_hit_avx512(ray, t_max) },
-            Level::Avx2 => return unsafe { self.any_hit_avx2(ray, t_max) },
-            Level::Sse2 => {}
-        }
-        self.any_hit_kernel::<false>(ray, t_max)
+        penumbra_core::at_level!(
+            avx512: self.any_hit_avx512(ray, t_max),
+            avx2: self.any_hit_avx2(ray, t_max),
+            portable: self.any_hit_kernel::<false>(ray, t_max),
+        )
     }
 
     fn extent(&self) -> Aabb {

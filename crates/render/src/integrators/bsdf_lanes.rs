@@ -12,7 +12,6 @@ use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, F8, V3};
 #[cfg(target_arch = "x86_64")]
 use penumbra_core::lanes_avx::F8Avx;
-use penumbra_core::simd::{self, Level};
 use penumbra_core::Rgb;
 
 /// What one shading point asks of its BSDF (radiance mode), in the shading frame.
@@ -33,15 +32,6 @@ pub(super) struct BsdfAnswer {
     pub sample: Option<BsdfSample>,
 }
 
-/// The buckets of one depth's shading points, by index, kept between depths.
-#[derive(Default)]
-pub(super) struct Buckets {
-    diffuse: Vec<usize>,
-    conductor: Vec<usize>,
-    dielectric: Vec<usize>,
-    plastic: Vec<usize>,
-}
-
 /// z flipped: the direction mirrored through the tangent plane (a two-sided BSDF seen
 /// from behind works on the front).
 #[inline]
@@ -49,49 +39,45 @@ fn flip(w: Vec3) -> Vec3 {
     Vec3::new(w.x, w.y, -w.z)
 }
 
-impl Buckets {
-    /// Answers `queries[i]` for `bsdfs[i]` into `out[i]`.
-    pub fn answer<'s>(&mut self, bsdfs: &[Bsdf<'s>], queries: &[BsdfQuery], out: &mut [BsdfAnswer]) {
-        self.diffuse.clear();
-        self.conductor.clear();
-        self.dielectric.clear();
-        self.plastic.clear();
-        for (i, (bsdf, q)) in bsdfs.iter().zip(queries).enumerate() {
-            match bsdf.kind {
-                BsdfKind::Diffuse(_) => self.diffuse.push(i),
-                BsdfKind::Conductor(_) => self.conductor.push(i),
-                BsdfKind::Dielectric(_) => self.dielectric.push(i),
-                BsdfKind::Plastic(_) => self.plastic.push(i),
-                _ => out[i] = answer_one(bsdf, q),
+/// The BSDF kinds answered in lanes, one line each (bucket, `BsdfKind` variant): generates
+/// [`Buckets`] and its [`Buckets::answer`]. A kind with a lane kernel joins by one line here.
+macro_rules! lane_kinds {
+    ($($bucket:ident: $variant:ident),* $(,)?) => {
+        /// The buckets of one depth's shading points, by index, kept between depths.
+        #[derive(Default)]
+        pub(super) struct Buckets {
+            $($bucket: Vec<usize>,)*
+        }
+
+        impl Buckets {
+            /// Answers `queries[i]` for `bsdfs[i]` into `out[i]`.
+            pub fn answer<'s>(&mut self, bsdfs: &[Bsdf<'s>], queries: &[BsdfQuery], out: &mut [BsdfAnswer]) {
+                $(self.$bucket.clear();)*
+                for (i, (bsdf, q)) in bsdfs.iter().zip(queries).enumerate() {
+                    match bsdf.kind {
+                        $(BsdfKind::$variant(_) => self.$bucket.push(i),)*
+                        _ => out[i] = answer_one(bsdf, q),
+                    }
+                }
+                let mode = TransportMode::Radiance;
+                $(
+                    for group in self.$bucket.chunks(8) {
+                        answer_lanes(group, bsdfs, queries, out, |b| match b {
+                            BsdfKind::$variant(k) => k.lanes(mode),
+                            _ => unreachable!("a bucket holds one kind"),
+                        });
+                    }
+                )*
             }
         }
-        let mode = TransportMode::Radiance;
-        let (d, c, g, p) = (&self.diffuse, &self.conductor, &self.dielectric, &self.plastic);
-        for group in d.chunks(8) {
-            answer_lanes(group, bsdfs, queries, out, |b| match b {
-                BsdfKind::Diffuse(d) => d.lanes(mode),
-                _ => unreachable!("the diffuse bucket holds diffuse BSDFs"),
-            });
-        }
-        for group in c.chunks(8) {
-            answer_lanes(group, bsdfs, queries, out, |b| match b {
-                BsdfKind::Conductor(c) => c.lanes(mode),
-                _ => unreachable!("the conductor bucket holds conductors"),
-            });
-        }
-        for group in g.chunks(8) {
-            answer_lanes(group, bsdfs, queries, out, |b| match b {
-                BsdfKind::Dielectric(d) => d.lanes(mode),
-                _ => unreachable!("the dielectric bucket holds dielectrics"),
-            });
-        }
-        for group in p.chunks(8) {
-            answer_lanes(group, bsdfs, queries, out, |b| match b {
-                BsdfKind::Plastic(p) => p.lanes(mode),
-                _ => unreachable!("the plastic bucket holds plastics"),
-            });
-        }
-    }
+    };
+}
+
+lane_kinds! {
+    diffuse: Diffuse,
+    conductor: Conductor,
+    dielectric: Dielectric,
+    plastic: Plastic,
 }
 
 /// One point's answers from its scalar BSDF.
@@ -213,7 +199,7 @@ fn kernel<G: Gather, L: Lane8>(one: &[G; 8], c: &Columns) -> Results {
     }
 }
 
-/// [`kernel`] at the SIMD level the CPU runs ([`simd::level`]); the same floats at every
+/// [`kernel`] at the SIMD level the CPU runs ([`penumbra_core::simd::level`]); the same floats at every
 /// level.
 fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
     #[cfg(target_arch = "x86_64")]
@@ -223,12 +209,5 @@ fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
             kernel::<G, F8Avx>(one, c)
         }
     }
-    // SAFETY: the CPU runs the level's instructions (checked when the level was chosen).
-    #[cfg(target_arch = "x86_64")]
-    match simd::level() {
-        Level::Avx512 => return unsafe { avx512(one, c) },
-        Level::Avx2 => return unsafe { avx2(one, c) },
-        Level::Sse2 => {}
-    }
-    kernel::<G, F8>(one, c)
+    penumbra_core::at_level!(avx512: avx512(one, c), avx2: avx2(one, c), portable: kernel::<G, F8>(one, c))
 }

@@ -130,7 +130,7 @@ pub(super) fn light_sample(
     u: Vec2,
     strategy: &LightStrategy,
 ) -> Option<ShadowTest> {
-    let lp = light_point(scene, sh, index, p_pick, u, strategy)?;
+    let lp = light_point(scene, sh, (index, p_pick), u, strategy.sampling)?;
     let f = sh.bsdf.eval(sh.wo, lp.l, TransportMode::Radiance);
     let p_bsdf = || sh.bsdf.pdf(sh.wo, lp.l, TransportMode::Radiance);
     lp.finish(f, p_bsdf, strategy)
@@ -148,18 +148,17 @@ pub(super) struct LightPoint {
     pub t_max: f32,
 }
 
-/// The first half of [`light_sample`]: the point on the light, where it brings light and
-/// the normals agree on its side.
+/// The first half of [`light_sample`]: the point on light `index` (picked with
+/// probability `p_pick`), where it brings light and the normals agree on its side.
 pub(super) fn light_point(
     scene: &Scene,
     sh: &Shading,
-    index: u32,
-    p_pick: f32,
+    (index, p_pick): (u32, f32),
     u: Vec2,
-    strategy: &LightStrategy,
+    sampling: AreaSampling,
 ) -> Option<LightPoint> {
     let light = &scene.lights.lights()[index as usize];
-    let ls = light.sample_li(sh.origin, u, strategy.sampling)?;
+    let ls = light.sample_li(sh.origin, u, sampling)?;
     if ls.li.is_black() || !ls.wi.is_finite() {
         return None;
     }

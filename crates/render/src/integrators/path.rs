@@ -295,8 +295,8 @@ impl PathTracer {
                 let point = sh.bsdf.has_smooth().then(|| {
                     let u_pick = sampler.next_1d();
                     let u = sampler.next_2d();
-                    let (index, p_pick) = scene.lights.pick(selection, u_pick)?;
-                    nee::light_point(scene, sh, index, p_pick, u, &nee)
+                    let pick = scene.lights.pick(selection, u_pick)?;
+                    nee::light_point(scene, sh, pick, u, nee.sampling)
                 });
                 let point = point.flatten();
                 let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());

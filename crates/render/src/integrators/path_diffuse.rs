@@ -14,7 +14,6 @@ use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, F8, V3};
 #[cfg(target_arch = "x86_64")]
 use penumbra_core::lanes_avx::F8Avx;
-use penumbra_core::simd::{self, Level};
 use penumbra_core::{PixelSampler, Rgb};
 use penumbra_geometry::triangle_lanes::{triangle_surface_lanes, SurfaceLanes, TriangleLanes};
 use penumbra_geometry::{Hit, SurfaceHit, TriangleMesh};
@@ -253,7 +252,7 @@ fn lane_kernel<L: Lane8>(
     }
 }
 
-/// [`lane_kernel`] at the SIMD level the CPU runs ([`simd::level`]); the same floats at
+/// [`lane_kernel`] at the SIMD level the CPU runs ([`penumbra_core::simd::level`]); the same floats at
 /// every level.
 fn run_lane_kernel(c: &Columns, f: &Flags, u_light: ([f32; 8], [f32; 8]), u_dir: ([f32; 8], [f32; 8])) -> LaneResults {
     type U = ([f32; 8], [f32; 8]);
@@ -264,14 +263,11 @@ fn run_lane_kernel(c: &Columns, f: &Flags, u_light: ([f32; 8], [f32; 8]), u_dir:
             lane_kernel::<F8Avx>(c, f, u_light, u_dir)
         }
     }
-    // SAFETY: the CPU runs the level's instructions (checked when the level was chosen).
-    #[cfg(target_arch = "x86_64")]
-    match simd::level() {
-        Level::Avx512 => return unsafe { avx512(c, f, u_light, u_dir) },
-        Level::Avx2 => return unsafe { avx2(c, f, u_light, u_dir) },
-        Level::Sse2 => {}
-    }
-    lane_kernel::<F8>(c, f, u_light, u_dir)
+    penumbra_core::at_level!(
+        avx512: avx512(c, f, u_light, u_dir),
+        avx2: avx2(c, f, u_light, u_dir),
+        portable: lane_kernel::<F8>(c, f, u_light, u_dir),
+    )
 }
 
 /// The three components of eight lanes' vectors, each as stored from its register.
