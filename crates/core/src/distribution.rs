@@ -10,6 +10,9 @@
 //! pixel radiance and density): what a sample needs then comes with the cache line its
 //! search already read, instead of one more miss in a separate array.
 
+/// Distributions of at most this many items are searched by counting (see `find`).
+const SMALL: usize = 16;
+
 /// Items `0..n` with probability proportional to their weights, each carrying a `P`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Distribution1D<P = ()> {
@@ -84,6 +87,13 @@ impl<P: Copy> Distribution1D<P> {
     /// (checked, so rounding at a bucket's edge falls back to the whole search).
     fn find(&self, u: f32) -> usize {
         let n = self.len();
+        // A few items (a scene's lights, a mesh light's triangles): count the CDF entries
+        // at or below u without branches. Which item a random u falls in is a coin toss
+        // that a search's branches would mispredict; the count is the search's answer.
+        if n <= SMALL {
+            let count: usize = self.table[..n].iter().map(|e| (e.cdf <= u) as usize).sum();
+            return count.clamp(1, n) - 1;
+        }
         let j = ((u * n as f32) as usize).min(n - 1);
         let (lo, hi) = (self.table[j].guide as usize, self.table[j + 1].guide as usize);
         if !(self.cdf(lo) <= u && (hi == n - 1 || u < self.cdf(hi + 1))) {
@@ -300,7 +310,11 @@ mod tests {
             .collect();
         let flat = vec![1.0f32; 1024];
         let tiny = vec![0.0, 2.0];
-        for weights in [spiky, sparse, flat, tiny] {
+        let small = vec![
+            1.0, 0.0, 0.0, 3.0, 2.0, 0.0, 0.5, 0.0, 1.0, 1.0, 0.0, 7.0, 0.0, 0.0, 2.0, 0.0,
+        ];
+        let few = vec![3.0, 1.0, 0.0];
+        for weights in [spiky, sparse, flat, tiny, small, few] {
             let d = Distribution1D::new(weights.iter().copied()).unwrap();
             let n = d.len() as f32;
             let edges = (0..=d.len()).flat_map(|j| {
