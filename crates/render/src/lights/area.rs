@@ -7,7 +7,7 @@
 //! grouped as one light for selection).
 
 use super::emitter::{Emitter, EmitterSample};
-use super::{EmissionSample, LightSample};
+use super::{EmissionSample, LightModel, LightSample, SceneSphere};
 use crate::Texture;
 use glam::{Vec2, Vec3};
 use penumbra_core::{warp, Frame, Ray, Rgb};
@@ -191,6 +191,44 @@ fn barycentric(v: [Vec3; 3], p: Vec3) -> (f32, f32) {
         return (0.0, 0.0);
     }
     ((d11 * d20 - d01 * d21) / den, (d00 * d21 - d01 * d20) / den)
+}
+
+impl LightModel for AreaLight {
+    fn sample_li(&self, p: Vec3, u: Vec2, strategy: AreaSampling) -> Option<LightSample> {
+        AreaLight::sample_li(self, p, u, strategy)
+    }
+    fn pdf_li(&self, p: Vec3, wi: Vec3, strategy: AreaSampling) -> f32 {
+        self.emitter
+            .intersect(p, wi)
+            .map_or(0.0, |(point, normal)| self.pdf(p, point, normal, strategy))
+    }
+    fn emitted(&self, point: Vec3, w: Vec3) -> Rgb {
+        self.le(point, self.emitter.normal_at(point), w)
+    }
+    fn surface_normal(&self, point: Vec3) -> Option<Vec3> {
+        Some(self.emitter.normal_at(point))
+    }
+    fn pdf_from_infinity(&self, _dir: Vec3) -> f32 {
+        0.0
+    }
+    fn connectible(&self) -> bool {
+        true
+    }
+    fn sample_le(&self, u_pos: Vec2, u_dir: Vec2, _sphere: SceneSphere) -> Option<EmissionSample> {
+        AreaLight::sample_le(self, u_pos, u_dir)
+    }
+    fn pdf_le(&self, dir: Vec3, normal: Vec3, _sphere: SceneSphere) -> (f32, f32) {
+        AreaLight::pdf_le(self, dir, normal)
+    }
+    fn is_infinite(&self) -> bool {
+        false
+    }
+    fn is_delta(&self) -> bool {
+        false
+    }
+    fn power(&self, _scene_radius: f32) -> f32 {
+        AreaLight::power(self)
+    }
 }
 
 #[cfg(test)]

@@ -8,7 +8,7 @@
 //! Each pixel is constant over its cell (no filtering), so the sampling density is exactly
 //! proportional to the luminance it samples.
 
-use super::{disk_origin, disk_pdf, EmissionSample, LightSample, SceneSphere};
+use super::{disk_origin, disk_pdf, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere};
 use crate::texture::TextureImage;
 use glam::{Mat3, Vec2, Vec3};
 use penumbra_core::{trig, warp, Distribution2D, Ray, Rgb};
@@ -242,6 +242,42 @@ fn solid_angle_integral(image: &TextureImage, g: impl Fn(Rgb) -> f64) -> f64 {
             row.iter().map(|&p| g(p)).sum::<f64>() * band
         })
         .sum()
+}
+
+impl LightModel for Environment {
+    fn sample_li(&self, _p: Vec3, u: Vec2, _strategy: AreaSampling) -> Option<LightSample> {
+        Environment::sample_li(self, u)
+    }
+    fn pdf_li(&self, _p: Vec3, wi: Vec3, _strategy: AreaSampling) -> f32 {
+        self.pdf(wi)
+    }
+    fn emitted(&self, _point: Vec3, w: Vec3) -> Rgb {
+        self.le(-w)
+    }
+    fn surface_normal(&self, _point: Vec3) -> Option<Vec3> {
+        None
+    }
+    fn pdf_from_infinity(&self, dir: Vec3) -> f32 {
+        self.pdf(-dir)
+    }
+    fn connectible(&self) -> bool {
+        true
+    }
+    fn sample_le(&self, u_pos: Vec2, u_dir: Vec2, sphere: SceneSphere) -> Option<EmissionSample> {
+        Environment::sample_le(self, u_pos, u_dir, sphere)
+    }
+    fn pdf_le(&self, dir: Vec3, _normal: Vec3, sphere: SceneSphere) -> (f32, f32) {
+        (disk_pdf(sphere), self.pdf(-dir))
+    }
+    fn is_infinite(&self) -> bool {
+        true
+    }
+    fn is_delta(&self) -> bool {
+        false
+    }
+    fn power(&self, scene_radius: f32) -> f32 {
+        Environment::power(self, scene_radius)
+    }
 }
 
 #[cfg(test)]

@@ -9,11 +9,11 @@
 //! Lights at infinity (directional, environment) emit from a disk of the scene's bounding
 //! sphere's radius facing the direction, so that the rays cover the whole scene.
 //!
-//! Adding a light: a new file with what the methods of [`Light`] ask of it, a variant and
-//! its name in [`Light::NAMES`], and an arm in each match below. Every match here is
-//! exhaustive (no catch-all arm), so the compiler names each place a new kind must answer:
-//! the integrators ask [`Light`] and never match on kinds themselves. The light test table
-//! (`lights/tests_table.rs`) fails until the new kind has a case.
+//! Adding a light: a new file whose type implements [`LightModel`] (every method, none
+//! with a default, so the compiler names each question a new kind must answer), and one
+//! line in the `light_kinds!` registry. The integrators ask [`Light`] and never match on
+//! kinds themselves. The light test table (`lights/tests_table.rs`) fails until the new
+//! kind has a case.
 
 mod area;
 mod directional;
@@ -87,141 +87,168 @@ impl EmissionSample {
 /// infinity aim their rays.
 pub type SceneSphere = (Vec3, f32);
 
-#[derive(Clone, Debug, PartialEq)]
-pub enum Light {
-    Point(Point),
-    Spot(Spot),
-    Directional(Directional),
-    Area(AreaLight),
-    Environment(Environment),
-}
-
-impl Light {
-    /// Every kind's name, in the order of the variants.
-    pub const NAMES: [&'static str; 5] = ["point", "spot", "directional", "area", "environment"];
-
-    pub fn name(&self) -> &'static str {
-        match self {
-            Light::Point(_) => Self::NAMES[0],
-            Light::Spot(_) => Self::NAMES[1],
-            Light::Directional(_) => Self::NAMES[2],
-            Light::Area(_) => Self::NAMES[3],
-            Light::Environment(_) => Self::NAMES[4],
-        }
-    }
-
-    /// The solid-angle density with which [`Light::sample_li`] gives direction `wi` at
-    /// `p` (0 for delta lights, which no other direction meets, and where `wi` misses).
-    pub fn pdf_li(&self, p: Vec3, wi: Vec3, strategy: AreaSampling) -> f32 {
-        match self {
-            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => 0.0,
-            Light::Area(l) => l
-                .emitter
-                .intersect(p, wi)
-                .map_or(0.0, |(point, normal)| l.pdf(p, point, normal, strategy)),
-            Light::Environment(l) => l.pdf(wi),
-        }
-    }
-
+/// What every light answers; each kind's file implements it. No method has a default: a
+/// new kind must answer each question (the integrators ask [`Light`], never match on
+/// kinds, so nothing falls back silently to another kind's answer).
+pub trait LightModel {
+    /// Light arriving at `p`; `u` and `strategy` choose the point on area lights.
+    fn sample_li(&self, p: Vec3, u: Vec2, strategy: AreaSampling) -> Option<LightSample>;
+    /// The solid-angle density with which `sample_li` gives direction `wi` at `p` (0 for
+    /// delta lights, which no other direction meets, and where `wi` misses).
+    fn pdf_li(&self, p: Vec3, wi: Vec3, strategy: AreaSampling) -> f32;
     /// Radiance the light sends along `w` from its point `point` (for lights at infinity:
     /// travelling along `w`, whatever the point); black for delta lights, which no ray
     /// meets.
-    pub fn emitted(&self, point: Vec3, w: Vec3) -> Rgb {
-        match self {
-            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => Rgb::BLACK,
-            Light::Area(l) => l.le(point, l.emitter.normal_at(point), w),
-            Light::Environment(l) => l.le(-w),
-        }
-    }
-
+    fn emitted(&self, point: Vec3, w: Vec3) -> Rgb;
     /// The front normal of the light's surface at `point`; `None` for lights without one.
-    pub fn surface_normal(&self, point: Vec3) -> Option<Vec3> {
-        match self {
-            Light::Area(l) => Some(l.emitter.normal_at(point)),
-            Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Environment(_) => None,
-        }
-    }
-
+    fn surface_normal(&self, point: Vec3) -> Option<Vec3>;
     /// The density with which a light path's ray comes in from infinity along `dir` (the
     /// environment's direction density); 0 for finite lights and delta directions.
-    pub fn pdf_from_infinity(&self, dir: Vec3) -> f32 {
-        match self {
-            Light::Environment(l) => l.pdf(-dir),
-            Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Area(_) => 0.0,
-        }
-    }
-
+    fn pdf_from_infinity(&self, dir: Vec3) -> f32;
     /// Whether a path vertex on this light can be joined to another by a shadow ray: not
     /// for a single direction of travel (directional light).
-    pub fn connectible(&self) -> bool {
-        match self {
-            Light::Directional(_) => false,
-            Light::Point(_) | Light::Spot(_) | Light::Area(_) | Light::Environment(_) => true,
-        }
-    }
-
-    /// Light arriving at `p`; `u` and `strategy` choose the point on area lights.
-    pub fn sample_li(&self, p: Vec3, u: Vec2, strategy: AreaSampling) -> Option<LightSample> {
-        match self {
-            Light::Point(l) => l.sample_li(p),
-            Light::Spot(l) => l.sample_li(p),
-            Light::Directional(l) => l.sample_li(p),
-            Light::Area(l) => l.sample_li(p, u, strategy),
-            Light::Environment(l) => l.sample_li(u),
-        }
-    }
-
+    fn connectible(&self) -> bool;
     /// An emitted ray drawn from `u_pos` (the point) and `u_dir` (the direction).
+    fn sample_le(&self, u_pos: Vec2, u_dir: Vec2, sphere: SceneSphere) -> Option<EmissionSample>;
+    /// The densities `(pdf_pos, pdf_dir)` with which `sample_le` draws the ray leaving the
+    /// light along `dir` from a point with unit normal `normal`: zero for what it cannot
+    /// draw (a delta's position or direction).
+    fn pdf_le(&self, dir: Vec3, normal: Vec3, sphere: SceneSphere) -> (f32, f32);
+    /// Whether the light lies at infinity (directional, environment).
+    fn is_infinite(&self) -> bool;
+    /// Whether the light is a delta distribution (reachable only by light sampling).
+    fn is_delta(&self) -> bool;
+    /// Total emitted power (a luminance), for choosing among lights.
+    fn power(&self, scene_radius: f32) -> f32;
+}
+
+/// The registry of light kinds: one line per kind (variant, type, name) generates
+/// [`Light`], its static dispatch of [`LightModel`] and [`Light::NAMES`], which the light
+/// test table checks it covers. Adding a light: its file, implementing [`LightModel`],
+/// and one line here.
+macro_rules! light_kinds {
+    ($($variant:ident($ty:ty) = $name:literal),* $(,)?) => {
+        /// The lights this renderer knows.
+        #[derive(Clone, Debug, PartialEq)]
+        pub enum Light {
+            $($variant($ty)),*
+        }
+
+        impl Light {
+            /// Every kind's name, in registry order.
+            pub const NAMES: &'static [&'static str] = &[$($name),*];
+
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $(Light::$variant(_) => $name),*
+                }
+            }
+
+            /// [`LightModel::sample_li`], statically dispatched.
+            #[inline]
+            pub fn sample_li(&self, p: Vec3, u: Vec2, strategy: AreaSampling) -> Option<LightSample> {
+                match self {
+                    $(Light::$variant(l) => LightModel::sample_li(l, p, u, strategy)),*
+                }
+            }
+
+            /// [`LightModel::pdf_li`], statically dispatched.
+            #[inline]
+            pub fn pdf_li(&self, p: Vec3, wi: Vec3, strategy: AreaSampling) -> f32 {
+                match self {
+                    $(Light::$variant(l) => LightModel::pdf_li(l, p, wi, strategy)),*
+                }
+            }
+
+            /// [`LightModel::emitted`], statically dispatched.
+            #[inline]
+            pub fn emitted(&self, point: Vec3, w: Vec3) -> Rgb {
+                match self {
+                    $(Light::$variant(l) => LightModel::emitted(l, point, w)),*
+                }
+            }
+
+            /// [`LightModel::surface_normal`], statically dispatched.
+            #[inline]
+            pub fn surface_normal(&self, point: Vec3) -> Option<Vec3> {
+                match self {
+                    $(Light::$variant(l) => LightModel::surface_normal(l, point)),*
+                }
+            }
+
+            /// [`LightModel::pdf_from_infinity`], statically dispatched.
+            #[inline]
+            pub fn pdf_from_infinity(&self, dir: Vec3) -> f32 {
+                match self {
+                    $(Light::$variant(l) => LightModel::pdf_from_infinity(l, dir)),*
+                }
+            }
+
+            /// [`LightModel::connectible`], statically dispatched.
+            #[inline]
+            pub fn connectible(&self) -> bool {
+                match self {
+                    $(Light::$variant(l) => LightModel::connectible(l)),*
+                }
+            }
+
+            /// [`LightModel::pdf_le`], statically dispatched.
+            #[inline]
+            pub fn pdf_le(&self, dir: Vec3, normal: Vec3, sphere: SceneSphere) -> (f32, f32) {
+                match self {
+                    $(Light::$variant(l) => LightModel::pdf_le(l, dir, normal, sphere)),*
+                }
+            }
+
+            /// [`LightModel::is_infinite`], statically dispatched.
+            #[inline]
+            pub fn is_infinite(&self) -> bool {
+                match self {
+                    $(Light::$variant(l) => LightModel::is_infinite(l)),*
+                }
+            }
+
+            /// [`LightModel::is_delta`], statically dispatched.
+            #[inline]
+            pub fn is_delta(&self) -> bool {
+                match self {
+                    $(Light::$variant(l) => LightModel::is_delta(l)),*
+                }
+            }
+
+            /// [`LightModel::power`], statically dispatched.
+            #[inline]
+            pub fn power(&self, scene_radius: f32) -> f32 {
+                match self {
+                    $(Light::$variant(l) => LightModel::power(l, scene_radius)),*
+                }
+            }
+
+            /// [`LightModel::sample_le`] as the kind answers it.
+            #[inline]
+            fn emission(&self, u_pos: Vec2, u_dir: Vec2, sphere: SceneSphere) -> Option<EmissionSample> {
+                match self {
+                    $(Light::$variant(l) => LightModel::sample_le(l, u_pos, u_dir, sphere)),*
+                }
+            }
+        }
+    };
+}
+
+light_kinds! {
+    Point(Point) = "point",
+    Spot(Spot) = "spot",
+    Directional(Directional) = "directional",
+    Area(AreaLight) = "area",
+    Environment(Environment) = "environment",
+}
+
+impl Light {
+    /// [`LightModel::sample_le`], with samples of no density or no light dropped.
     pub fn sample_le(&self, u_pos: Vec2, u_dir: Vec2, sphere: SceneSphere) -> Option<EmissionSample> {
-        let s = match self {
-            Light::Point(l) => l.sample_le(u_dir),
-            Light::Spot(l) => l.sample_le(u_dir),
-            Light::Directional(l) => l.sample_le(u_pos, sphere),
-            Light::Area(l) => l.sample_le(u_pos, u_dir),
-            Light::Environment(l) => l.sample_le(u_pos, u_dir, sphere),
-        }?;
+        let s = self.emission(u_pos, u_dir, sphere)?;
         let ok = s.pdf_pos > 0.0 && s.pdf_dir > 0.0 && s.pdf_pos.is_finite() && s.pdf_dir.is_finite();
         (ok && !s.le.is_black() && s.le.is_finite()).then_some(s)
-    }
-
-    /// The densities `(pdf_pos, pdf_dir)` with which [`Light::sample_le`] draws the ray
-    /// leaving the light along `dir` from a point with unit normal `normal`: zero for what
-    /// it cannot draw (a delta's position or direction).
-    pub fn pdf_le(&self, dir: Vec3, normal: Vec3, sphere: SceneSphere) -> (f32, f32) {
-        match self {
-            Light::Point(_) => (0.0, warp::UNIFORM_SPHERE_PDF),
-            Light::Spot(l) => (0.0, l.pdf_dir(dir)),
-            Light::Directional(_) => (disk_pdf(sphere), 0.0),
-            Light::Area(l) => l.pdf_le(dir, normal),
-            Light::Environment(l) => (disk_pdf(sphere), l.pdf(-dir)),
-        }
-    }
-
-    /// Whether the light lies at infinity (directional, environment).
-    pub fn is_infinite(&self) -> bool {
-        match self {
-            Light::Directional(_) | Light::Environment(_) => true,
-            Light::Point(_) | Light::Spot(_) | Light::Area(_) => false,
-        }
-    }
-
-    /// Whether the light is a delta distribution (reachable only by light sampling).
-    pub fn is_delta(&self) -> bool {
-        match self {
-            Light::Point(_) | Light::Spot(_) | Light::Directional(_) => true,
-            Light::Area(_) | Light::Environment(_) => false,
-        }
-    }
-
-    /// Total emitted power (a luminance), for choosing among lights.
-    pub fn power(&self, scene_radius: f32) -> f32 {
-        match self {
-            Light::Point(l) => l.power(),
-            Light::Spot(l) => l.power(),
-            Light::Directional(l) => l.power(scene_radius),
-            Light::Area(l) => l.power(),
-            Light::Environment(l) => l.power(scene_radius),
-        }
     }
 }
 

@@ -144,7 +144,7 @@ fn every_light_kind_is_in_the_test_table() {
     let cases = cases();
     for name in Light::NAMES {
         assert!(
-            cases.iter().any(|(_, l)| l.name() == name),
+            cases.iter().any(|(_, l)| l.name() == *name),
             "light kind `{name}` has no case in lights/tests_table.rs"
         );
     }
