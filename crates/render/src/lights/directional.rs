@@ -4,7 +4,9 @@
 //! Native format: `type = "directional"`, `direction` (the way the light travels,
 //! default `[0, -1, 0]`), `irradiance` (colour, default `[1, 1, 1]`).
 
-use super::{disk_origin, disk_pdf, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere};
+use super::{
+    delta_light_answers, disk_origin, disk_pdf, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere,
+};
 use glam::{Vec2, Vec3};
 use penumbra_core::{Ray, Rgb};
 
@@ -53,20 +55,10 @@ impl Directional {
 }
 
 impl LightModel for Directional {
+    delta_light_answers!();
+
     fn sample_li(&self, p: Vec3, _u: Vec2, _strategy: AreaSampling) -> Option<LightSample> {
         Directional::sample_li(self, p)
-    }
-    fn pdf_li(&self, _p: Vec3, _wi: Vec3, _strategy: AreaSampling) -> f32 {
-        0.0
-    }
-    fn emitted(&self, _point: Vec3, _w: Vec3) -> Rgb {
-        Rgb::BLACK
-    }
-    fn surface_normal(&self, _point: Vec3) -> Option<Vec3> {
-        None
-    }
-    fn pdf_from_infinity(&self, _dir: Vec3) -> f32 {
-        0.0
     }
     /// A single direction of travel: no shadow ray joins another vertex to it.
     fn connectible(&self) -> bool {
@@ -79,9 +71,6 @@ impl LightModel for Directional {
         (disk_pdf(sphere), 0.0)
     }
     fn is_infinite(&self) -> bool {
-        true
-    }
-    fn is_delta(&self) -> bool {
         true
     }
     fn power(&self, scene_radius: f32) -> f32 {

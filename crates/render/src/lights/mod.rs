@@ -122,6 +122,31 @@ pub trait LightModel {
     fn power(&self, scene_radius: f32) -> f32;
 }
 
+/// The [`LightModel`] answers every delta light (point, spot, directional) shares: no ray
+/// meets it, so it has no density for a direction met, emits nothing along one, has no
+/// surface and no direction density from infinity. A kind opts in by calling this in its
+/// implementation.
+macro_rules! delta_light_answers {
+    () => {
+        fn pdf_li(&self, _p: Vec3, _wi: Vec3, _strategy: AreaSampling) -> f32 {
+            0.0
+        }
+        fn emitted(&self, _point: Vec3, _w: Vec3) -> Rgb {
+            Rgb::BLACK
+        }
+        fn surface_normal(&self, _point: Vec3) -> Option<Vec3> {
+            None
+        }
+        fn pdf_from_infinity(&self, _dir: Vec3) -> f32 {
+            0.0
+        }
+        fn is_delta(&self) -> bool {
+            true
+        }
+    };
+}
+use delta_light_answers;
+
 /// The registry of light kinds: one line per kind (variant, type, name) generates
 /// [`Light`], its static dispatch of [`LightModel`] and [`Light::NAMES`], which the light
 /// test table checks it covers. Adding a light: its file, implementing [`LightModel`],

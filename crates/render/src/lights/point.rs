@@ -4,7 +4,7 @@
 //! Native format: `type = "point"`, `position` (required), `intensity` (colour, default
 //! `[1, 1, 1]`).
 
-use super::{delta_sample, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere};
+use super::{delta_light_answers, delta_sample, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere};
 use glam::{Vec2, Vec3};
 use penumbra_core::{warp, Ray, Rgb};
 
@@ -46,20 +46,10 @@ impl Point {
 }
 
 impl LightModel for Point {
+    delta_light_answers!();
+
     fn sample_li(&self, p: Vec3, _u: Vec2, _strategy: AreaSampling) -> Option<LightSample> {
         Point::sample_li(self, p)
-    }
-    fn pdf_li(&self, _p: Vec3, _wi: Vec3, _strategy: AreaSampling) -> f32 {
-        0.0
-    }
-    fn emitted(&self, _point: Vec3, _w: Vec3) -> Rgb {
-        Rgb::BLACK
-    }
-    fn surface_normal(&self, _point: Vec3) -> Option<Vec3> {
-        None
-    }
-    fn pdf_from_infinity(&self, _dir: Vec3) -> f32 {
-        0.0
     }
     fn connectible(&self) -> bool {
         true
@@ -72,9 +62,6 @@ impl LightModel for Point {
     }
     fn is_infinite(&self) -> bool {
         false
-    }
-    fn is_delta(&self) -> bool {
-        true
     }
     fn power(&self, _scene_radius: f32) -> f32 {
         Point::power(self)

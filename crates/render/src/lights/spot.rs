@@ -6,7 +6,7 @@
 //! (degrees, half-angle of the lit cone, default 30), `falloff_start` (degrees, from 0 to
 //! `cone_angle`, default the smaller of 25 and `cone_angle`).
 
-use super::{delta_sample, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere};
+use super::{delta_light_answers, delta_sample, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere};
 use glam::{Vec2, Vec3};
 use penumbra_core::{warp, Frame, Ray, Rgb};
 
@@ -90,20 +90,10 @@ impl Spot {
 }
 
 impl LightModel for Spot {
+    delta_light_answers!();
+
     fn sample_li(&self, p: Vec3, _u: Vec2, _strategy: AreaSampling) -> Option<LightSample> {
         Spot::sample_li(self, p)
-    }
-    fn pdf_li(&self, _p: Vec3, _wi: Vec3, _strategy: AreaSampling) -> f32 {
-        0.0
-    }
-    fn emitted(&self, _point: Vec3, _w: Vec3) -> Rgb {
-        Rgb::BLACK
-    }
-    fn surface_normal(&self, _point: Vec3) -> Option<Vec3> {
-        None
-    }
-    fn pdf_from_infinity(&self, _dir: Vec3) -> f32 {
-        0.0
     }
     fn connectible(&self) -> bool {
         true
@@ -116,9 +106,6 @@ impl LightModel for Spot {
     }
     fn is_infinite(&self) -> bool {
         false
-    }
-    fn is_delta(&self) -> bool {
-        true
     }
     fn power(&self, _scene_radius: f32) -> f32 {
         Spot::power(self)
