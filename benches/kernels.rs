@@ -343,18 +343,18 @@ fn textures(c: &mut Criterion) {
         ("constant", grey(0.5)),
         (
             "checker",
-            Texture::Checker {
+            Texture::Checker(penumbra::renderer::texture::Checker {
                 even: Rgb::WHITE,
                 odd: Rgb::BLACK,
                 size: 0.1,
-            },
+            }),
         ),
         (
             "image",
-            Texture::Image {
+            Texture::Image(penumbra::renderer::texture::ImageTexture {
                 image: Arc::new(image),
                 scale: 1.0,
-            },
+            }),
         ),
     ];
     let mut group = c.benchmark_group("texture eval");

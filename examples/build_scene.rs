@@ -32,11 +32,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let floor = material(
         "floor",
         Phong {
-            diffuse: Texture::Checker {
+            diffuse: Texture::Checker(penumbra::renderer::texture::Checker {
                 even: Rgb::splat(0.8),
                 odd: Rgb::splat(0.2),
                 size: 1.0,
-            },
+            }),
             ..Phong::default()
         },
     );

@@ -153,11 +153,11 @@ fn pixels_average_their_footprint() {
     d.render.filter = Filter::Box { radius: 0.5 };
     // Checks of side 2/8 + 1/8 offset put an edge at x = 1/8, inside pixel column 4.
     let checker = Phong {
-        diffuse: Texture::Checker {
+        diffuse: Texture::Checker(penumbra::renderer::texture::Checker {
             even: Rgb::WHITE,
             odd: Rgb::BLACK,
             size: 10.0,
-        },
+        }),
         ..Phong::default()
     };
     add(

@@ -181,7 +181,7 @@ fn every_shared_gltf_scene_loads_and_builds() {
                 panic!("two-sided")
             };
             let Material::Plastic(PlasticMaterial {
-                diffuse: Texture::Image { image, .. },
+                diffuse: Texture::Image(penumbra::renderer::texture::ImageTexture { image, .. }),
                 ..
             }) = &**m
             else {

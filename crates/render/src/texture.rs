@@ -1,132 +1,84 @@
 //! Textures: colours that vary over a surface, looked up by texture coordinates.
 //!
-//! Native format: a colour is `[r, g, b]`, or a table: `{ type = "checker", even = [..],
-//! odd = [..], size = 0.125 }` (squares of side `size` in texture units, alternating `even`
-//! and `odd`) or `{ type = "image", file = "wood.png", scale = 1 }` (an image repeated every
-//! 1/scale texture units, bilinearly filtered; see docs/scene-format.md).
+//! Native format: a colour is `[r, g, b]`, or a table naming a kind (see each kind's file
+//! and docs/scene-format.md). Adding a texture: a file in `texture/` whose type implements
+//! [`TextureModel`], and one line in the `texture_kinds!` registry below.
+
+mod checker;
+mod constant;
+mod image;
+
+pub use checker::Checker;
+pub use image::{ImageTexture, TextureImage, Wrap};
 
 use glam::Vec2;
 use penumbra_core::Rgb;
-use std::sync::Arc;
 
-/// The pixels of an image texture: linear RGB, row 0 at the top (v = 1).
-#[derive(Clone, Debug, PartialEq)]
-pub struct TextureImage {
-    pub width: usize,
-    pub height: usize,
-    pub pixels: Vec<Rgb>,
-    /// What lies beyond the image along u and along v.
-    pub wrap: [Wrap; 2],
+/// What every texture answers.
+pub trait TextureModel {
+    /// The colour at texture coordinates `uv`.
+    fn eval(&self, uv: Vec2) -> Rgb;
+    /// The smallest value the texture takes, per channel.
+    fn min_value(&self) -> Rgb;
+    /// The largest value the texture takes, per channel.
+    fn max_value(&self) -> Rgb;
 }
 
-/// What an image texture shows outside [0, 1] along one axis (glTF's wrap modes, Mitsuba's
-/// `wrap_mode`, pbrt's `wrap`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Wrap {
-    /// The image again.
-    #[default]
-    Repeat,
-    /// The image mirrored, then again, and so on.
-    Mirror,
-    /// The edge pixels, stretched.
-    Clamp,
-    /// Black.
-    Black,
-}
+/// The registry of texture kinds: one line per kind (variant, type, name) generates
+/// [`Texture`], its static dispatch and [`Texture::NAMES`].
+macro_rules! texture_kinds {
+    ($($variant:ident($ty:ty) = $name:literal),* $(,)?) => {
+        /// The textures this renderer knows.
+        #[derive(Clone, Debug, PartialEq)]
+        pub enum Texture {
+            $($variant($ty)),*
+        }
 
-impl Wrap {
-    /// The pixel that `i` (any integer) stands for in a row of `n`; `None`: black.
-    fn pixel(self, i: i64, n: i64) -> Option<i64> {
-        match self {
-            Wrap::Repeat => Some(i.rem_euclid(n)),
-            Wrap::Mirror => {
-                let m = i.rem_euclid(2 * n);
-                Some(if m >= n { 2 * n - 1 - m } else { m })
+        impl Texture {
+            /// Every kind's name, in registry order.
+            pub const NAMES: &'static [&'static str] = &[$($name),*];
+
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $(Texture::$variant(_) => $name),*
+                }
             }
-            Wrap::Clamp => Some(i.clamp(0, n - 1)),
-            Wrap::Black => (0..n).contains(&i).then_some(i),
-        }
-    }
-}
 
-impl TextureImage {
-    /// Bilinear interpolation of the four pixels around texture point `uv`, the image
-    /// continued by its [`Wrap`]s; pixel centres at ((x + 0.5)/w, 1 - (y + 0.5)/h).
-    pub fn bilinear(&self, uv: Vec2) -> Rgb {
-        let (w, h) = (self.width as i64, self.height as i64);
-        let x = uv.x * w as f32 - 0.5;
-        let y = (1.0 - uv.y) * h as f32 - 0.5;
-        if !(x.is_finite() && y.is_finite()) {
-            return Rgb::BLACK;
-        }
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let at = |i: i64, j: i64| match (self.wrap[0].pixel(i, w), self.wrap[1].pixel(j, h)) {
-            (Some(i), Some(j)) => self.pixels[(j * w + i) as usize],
-            _ => Rgb::BLACK,
-        };
-        let (i, j) = (x0 as i64, y0 as i64);
-        (at(i, j) * (1.0 - fx) + at(i + 1, j) * fx) * (1.0 - fy)
-            + (at(i, j + 1) * (1.0 - fx) + at(i + 1, j + 1) * fx) * fy
-    }
-}
+            /// [`TextureModel::eval`].
+            #[inline]
+            pub fn eval(&self, uv: Vec2) -> Rgb {
+                match self {
+                    $(Texture::$variant(t) => t.eval(uv)),*
+                }
+            }
 
-#[derive(Clone, Debug, PartialEq)]
-pub enum Texture {
-    Constant(Rgb),
-    Checker {
-        even: Rgb,
-        odd: Rgb,
-        size: f32,
-    },
-    /// An image, repeated every 1/`scale` units of texture coordinates.
-    Image {
-        image: Arc<TextureImage>,
-        scale: f32,
-    },
-}
+            /// [`TextureModel::min_value`].
+            pub fn min_value(&self) -> Rgb {
+                match self {
+                    $(Texture::$variant(t) => t.min_value()),*
+                }
+            }
 
-impl Texture {
-    pub fn eval(&self, uv: Vec2) -> Rgb {
-        match *self {
-            Texture::Image { ref image, scale } => image.bilinear(uv * scale),
-            Texture::Constant(c) => c,
-            Texture::Checker { even, odd, size } => {
-                let cell = (uv / size).floor();
-                if (cell.x + cell.y).rem_euclid(2.0) < 1.0 {
-                    even
-                } else {
-                    odd
+            /// [`TextureModel::max_value`].
+            pub fn max_value(&self) -> Rgb {
+                match self {
+                    $(Texture::$variant(t) => t.max_value()),*
                 }
             }
         }
-    }
+    };
+}
 
-    /// The smallest value the texture takes, per channel.
-    pub fn min_value(&self) -> Rgb {
-        match *self {
-            Texture::Constant(c) => c,
-            Texture::Image { ref image, .. } => image.pixels.iter().fold(Rgb::splat(f32::INFINITY), |a, &p| a.min(p)),
-            Texture::Checker { even, odd, .. } => even.min(odd),
-        }
-    }
-
-    /// The largest value the texture takes, per channel.
-    pub fn max_value(&self) -> Rgb {
-        match *self {
-            Texture::Constant(c) => c,
-            Texture::Image { ref image, .. } => image
-                .pixels
-                .iter()
-                .fold(Rgb::splat(f32::NEG_INFINITY), |a, &p| a.max(p)),
-            Texture::Checker { even, odd, .. } => even.max(odd),
-        }
-    }
+texture_kinds! {
+    Constant(Rgb) = "constant",
+    Checker(Checker) = "checker",
+    Image(ImageTexture) = "image",
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::sync::Arc;
 
     #[test]
     fn image_textures_interpolate_between_pixel_centres_and_repeat() {
@@ -153,10 +105,10 @@ mod tests {
             image.bilinear(Vec2::new(1.25, -0.25)),
             image.bilinear(Vec2::new(0.25, 0.75))
         );
-        let t = Texture::Image {
+        let t = Texture::Image(ImageTexture {
             image: Arc::new(image),
             scale: 2.0,
-        };
+        });
         assert_eq!(t.eval(Vec2::new(0.125, 0.375)), Rgb::BLACK);
         assert_eq!(t.max_value(), Rgb::WHITE);
         assert_eq!(t.min_value(), Rgb::BLACK);
@@ -190,14 +142,54 @@ mod tests {
 
     #[test]
     fn checker_alternates() {
-        let t = Texture::Checker {
+        let t = Texture::Checker(Checker {
             even: Rgb::WHITE,
             odd: Rgb::BLACK,
             size: 1.0,
-        };
+        });
         assert_eq!(t.eval(Vec2::new(0.5, 0.5)), Rgb::WHITE);
         assert_eq!(t.eval(Vec2::new(1.5, 0.5)), Rgb::BLACK);
         assert_eq!(t.eval(Vec2::new(-0.5, 0.5)), Rgb::BLACK);
         assert_eq!(t.eval(Vec2::new(-0.5, -0.5)), Rgb::WHITE);
+    }
+
+    /// Every registered kind has a case here, and each case's values lie within its
+    /// `min_value` and `max_value` at 10,000 random points (wrapping beyond [0, 1] too).
+    #[test]
+    fn every_kind_stays_within_its_bounds() {
+        let image = TextureImage {
+            width: 3,
+            height: 2,
+            pixels: (0..6).map(|i| Rgb::new(i as f32, 5.0 - i as f32, 0.5)).collect(),
+            wrap: [Wrap::Mirror, Wrap::Clamp],
+        };
+        let cases = [
+            Texture::Constant(Rgb::new(0.1, 0.2, 0.3)),
+            Texture::Checker(Checker::default()),
+            Texture::Image(ImageTexture {
+                image: Arc::new(image),
+                scale: 1.5,
+            }),
+        ];
+        for name in Texture::NAMES {
+            assert!(
+                cases.iter().any(|t| t.name() == *name),
+                "no case for texture kind {name}"
+            );
+        }
+        let mut rng = penumbra_core::Pcg32::new(9, 4);
+        for t in &cases {
+            let (lo, hi) = (t.min_value(), t.max_value());
+            for _ in 0..10_000 {
+                let uv = Vec2::new(rng.next_f32(), rng.next_f32()) * 6.0 - Vec2::splat(3.0);
+                let v = t.eval(uv);
+                let inside = |v: f32, lo: f32, hi: f32| lo - 1e-6 <= v && v <= hi + 1e-6;
+                assert!(
+                    inside(v.r, lo.r, hi.r) && inside(v.g, lo.g, hi.g) && inside(v.b, lo.b, hi.b),
+                    "{}: {v:?} outside {lo:?}..{hi:?} at {uv}",
+                    t.name()
+                );
+            }
+        }
     }
 }

@@ -76,7 +76,7 @@ pub fn image_texture(path: &Path, srgb: bool, scale: f32) -> Result<Texture, Str
             i / image.width as usize
         ));
     }
-    Ok(Texture::Image {
+    Ok(Texture::Image(penumbra_render::texture::ImageTexture {
         image: Arc::new(TextureImage {
             wrap: Default::default(),
             width: image.width as usize,
@@ -84,15 +84,15 @@ pub fn image_texture(path: &Path, srgb: bool, scale: f32) -> Result<Texture, Str
             pixels: image.pixels,
         }),
         scale,
-    })
+    }))
 }
 
 /// `texture` with `wrap` (along u, v) beyond its image, if it is an image.
 pub fn with_wrap(texture: Texture, wrap: [Wrap; 2]) -> Texture {
     match texture {
-        Texture::Image { mut image, scale } => {
+        Texture::Image(penumbra_render::texture::ImageTexture { mut image, scale }) => {
             Arc::make_mut(&mut image).wrap = wrap;
-            Texture::Image { image, scale }
+            Texture::Image(penumbra_render::texture::ImageTexture { image, scale })
         }
         other => other,
     }

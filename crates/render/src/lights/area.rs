@@ -253,10 +253,10 @@ mod tests {
             height: 2,
             pixels: vec![Rgb::splat(0.5), Rgb::splat(4.0), Rgb::splat(0.1), Rgb::splat(1.0)],
         };
-        let texture = Texture::Image {
+        let texture = Texture::Image(crate::texture::ImageTexture {
             image: Arc::new(image),
             scale: 1.0,
-        };
+        });
         let v = [
             Vec3::new(-0.3, -0.2, 1.0),
             Vec3::new(-0.2, 0.9, 1.2),

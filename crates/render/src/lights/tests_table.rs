@@ -48,11 +48,11 @@ fn cases() -> Vec<(&'static str, Light)> {
         Vec3::new(0.7, -0.3, 1.0),
         Vec3::new(0.1, 0.8, 1.4),
     ];
-    let checker = Texture::Checker {
+    let checker = Texture::Checker(crate::texture::Checker {
         even: Rgb::splat(1.5),
         odd: Rgb::splat(0.25),
         size: 0.25,
-    };
+    });
     let uvs = [Vec2::ZERO, Vec2::X, Vec2::Y];
     vec![
         (

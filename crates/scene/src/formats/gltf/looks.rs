@@ -174,7 +174,7 @@ impl Reader {
             }
         };
         let decode = |x: f32| if srgb { srgb_decode(x) } else { x };
-        Ok(Texture::Image {
+        Ok(Texture::Image(penumbra_render::texture::ImageTexture {
             image: Arc::new(TextureImage {
                 wrap,
                 width: raw.width,
@@ -186,7 +186,7 @@ impl Reader {
                     .collect(),
             }),
             scale: 1.0,
-        })
+        }))
     }
 }
 

@@ -243,11 +243,11 @@ pub fn texture(r: &mut Reader, at: At, data: bool) -> Result<Texture> {
                 .map_err(|e| r.attr_error(v, "value", e))?;
             crate::image_input::with_wrap(texture, [wrap; 2])
         }
-        "checkerboard" => Texture::Checker {
+        "checkerboard" => Texture::Checker(penumbra_render::texture::Checker {
             even: p.color_or(r, "color0", 0.4)?,
             odd: p.color_or(r, "color1", 0.2)?,
             size: 0.5 / uv_scale(r, &p)?,
-        },
+        }),
         other => {
             r.warn_once(
                 &format!("texture {other}"),

@@ -293,11 +293,11 @@ fn texture(v: &Value, data: bool) -> Result<Texture> {
         ["checker", "image"].contains(&s).then(|| s.to_string())
     })?;
     let tex = if kind == "checker" {
-        Texture::Checker {
+        Texture::Checker(penumbra_render::texture::Checker {
             even: t.rgb_or("even", Rgb::WHITE)?,
             odd: t.rgb_or("odd", Rgb::BLACK)?,
             size: t.positive_or("size", 0.125)?,
-        }
+        })
     } else {
         let file = t.require("file")?;
         let srgb = t.get("srgb").map_or(Ok(!data), |v| v.bool())?;

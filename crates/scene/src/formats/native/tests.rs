@@ -94,11 +94,11 @@ fn every_shape_light_and_setting() {
     };
     assert_eq!(
         m.diffuse,
-        Texture::Checker {
+        Texture::Checker(penumbra_render::texture::Checker {
             even: Rgb::WHITE,
             odd: Rgb::new(0.0, 0.0, 1.0),
             size: 2.0
-        }
+        })
     );
     assert_eq!(m.mirror, Rgb::splat(0.5));
     assert_eq!(d.shapes.len(), 7);
@@ -493,7 +493,7 @@ fn image_textures_decode_srgb_for_colours_only() {
             },
             other => panic!("{other:?}"),
         };
-        let Texture::Image { image, scale } = tex else {
+        let Texture::Image(penumbra_render::texture::ImageTexture { image, scale }) = tex else {
             panic!("not an image")
         };
         (image.pixels[0], scale)

@@ -276,11 +276,11 @@ pub fn texture(r: &mut Reader, class: &str, p: &Params, file: &SourceFile, here:
             };
             scaled(texture_param(r, p, "tex", 1.0)?, factor)
         }
-        "checkerboard" => Texture::Checker {
+        "checkerboard" => Texture::Checker(penumbra_render::texture::Checker {
             even: color(p, "tex1", ColorKind::Albedo)?.unwrap_or(Rgb::WHITE),
             odd: color(p, "tex2", ColorKind::Albedo)?.unwrap_or(Rgb::BLACK),
             size: 1.0 / p.float("uscale", 1.0)?.max(1e-6),
-        },
+        }),
         "constant" => Texture::Constant(color(p, "value", ColorKind::Albedo)?.unwrap_or(Rgb::WHITE)),
         other => {
             r.warn(
@@ -298,18 +298,22 @@ pub fn texture(r: &mut Reader, class: &str, p: &Params, file: &SourceFile, here:
 fn scaled(t: Texture, factor: f32) -> Texture {
     match t {
         Texture::Constant(c) => Texture::Constant(c * factor),
-        Texture::Checker { even, odd, size } => Texture::Checker {
-            even: even * factor,
-            odd: odd * factor,
-            size,
-        },
-        Texture::Image { image, scale } => Texture::Image {
-            image: std::sync::Arc::new(penumbra_render::texture::TextureImage {
-                pixels: image.pixels.iter().map(|&p| p * factor).collect(),
-                ..(*image).clone()
-            }),
-            scale,
-        },
+        Texture::Checker(penumbra_render::texture::Checker { even, odd, size }) => {
+            Texture::Checker(penumbra_render::texture::Checker {
+                even: even * factor,
+                odd: odd * factor,
+                size,
+            })
+        }
+        Texture::Image(penumbra_render::texture::ImageTexture { image, scale }) => {
+            Texture::Image(penumbra_render::texture::ImageTexture {
+                image: std::sync::Arc::new(penumbra_render::texture::TextureImage {
+                    pixels: image.pixels.iter().map(|&p| p * factor).collect(),
+                    ..(*image).clone()
+                }),
+                scale,
+            })
+        }
     }
 }
 

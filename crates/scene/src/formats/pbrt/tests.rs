@@ -235,7 +235,7 @@ fn scale_textures_multiply() {
         panic!()
     };
     let Material::Diffuse(DiffuseMaterial {
-        reflectance: penumbra_render::Texture::Checker { even, odd, .. },
+        reflectance: penumbra_render::Texture::Checker(penumbra_render::texture::Checker { even, odd, .. }),
     }) = &**m
     else {
         panic!("{m:?}")
