@@ -52,8 +52,9 @@ fn atan_unit<R: Real>(x: R) -> R {
 }
 
 /// The angle of the point (x, y) from the x axis, in [-π, π], as `f32::atan2` gives it
-/// (up to its rounding); 0 at the origin. The smaller coordinate over the larger goes to
-/// the unit interval's arctangent, and the octant is restored by symmetries.
+/// (up to its rounding) except on the edges: 0 at the origin and for NaN, and x = -0 taken
+/// as +0 (±0, not ±π, on the negative zero axis). The smaller coordinate over the larger
+/// goes to the unit interval's arctangent, and the octant is restored by symmetries.
 #[inline(always)]
 pub fn atan2<R: Real>(y: R, x: R) -> R {
     let c = R::splat;

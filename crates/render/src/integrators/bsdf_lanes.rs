@@ -153,7 +153,7 @@ fn answer_lanes<'s, G: Gather>(
     let r = run_kernel(&one, &c);
     let v3 = |a: &[[f32; 8]; 3], j: usize| Vec3::new(a[0][j], a[1][j], a[2][j]);
     for (j, &i) in group.iter().enumerate() {
-        let lit = queries[i].light.is_some();
+        let (lit, need_pdf) = queries[i].light.map_or((false, false), |(_, need)| (true, need));
         let f = v3(&r.f, j);
         let sample = (r.ok >> j & 1 != 0)
             .then(|| BsdfSample {
@@ -167,7 +167,7 @@ fn answer_lanes<'s, G: Gather>(
             .filter(|s| s.pdf > 0.0 && s.weight.is_finite() && s.wi.is_finite());
         out[i] = BsdfAnswer {
             f: if lit { Rgb::new(f.x, f.y, f.z) } else { Rgb::BLACK },
-            pdf: if lit { r.pdf[j] } else { 0.0 },
+            pdf: if need_pdf { r.pdf[j] } else { 0.0 },
             sample,
         };
     }

@@ -169,8 +169,10 @@ impl PathTracer {
             mis: Some((heuristic, 1.0)),
         };
         let no_ray = Ray::new(Vec3::ZERO, Vec3::Z);
-        // Every array below is written in place (no temporaries copied in) and holds only
+        // The arrays below are written in place (no temporaries copied in) and hold only
         // what a stage needs: a batch's whole state fits the first-level data cache better.
+        // (The shading points' frames and BSDFs are collected anew at each depth: they
+        // borrow that depth's surfaces.)
         let mut paths = [PathState {
             radiance: Rgb::BLACK,
             beta: Rgb::WHITE,
