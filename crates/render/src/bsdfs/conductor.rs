@@ -12,9 +12,7 @@
 //! eight-lane instructions with the same floats per lane.
 
 use super::microfacet::Ggx;
-use super::{
-    gather_v3, one_lane_methods, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays, TransportMode,
-};
+use super::{one_lane_methods, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays, TransportMode};
 use crate::optics::{clamp_unit, fresnel_conductor};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, Real, V3};
@@ -99,10 +97,10 @@ impl Gather for ConductorLanes<f32> {
     #[inline(always)]
     fn gather<L: Lane8>(one: &[Self; 8]) -> ConductorLanes<L> {
         ConductorLanes {
-            eta: gather_v3(one.map(|c| c.eta)),
-            k: gather_v3(one.map(|c| c.k)),
+            eta: V3::from_lanes(&one.map(|c| c.eta.into())),
+            k: V3::from_lanes(&one.map(|c| c.k.into())),
             schlick: L::mask_of(one.map(|c| c.schlick)),
-            specular: gather_v3(one.map(|c| c.specular)),
+            specular: V3::from_lanes(&one.map(|c| c.specular.into())),
             ggx: Ggx {
                 ax: L::from_array(one.map(|c| c.ggx.ax)),
                 ay: L::from_array(one.map(|c| c.ggx.ay)),

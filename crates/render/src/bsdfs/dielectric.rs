@@ -9,8 +9,8 @@
 
 use super::microfacet::Ggx;
 use super::{
-    gather_v3, one_lane_methods, reflect_z, same_hemisphere, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample,
-    SpecularRays, TransportMode,
+    one_lane_methods, reflect_z, same_hemisphere, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays,
+    TransportMode,
 };
 use crate::optics::{fresnel_dielectric, refract, refract_lanes};
 use glam::{Vec2, Vec3};
@@ -158,8 +158,8 @@ impl Gather for DielectricLanes<f32> {
     fn gather<L: Lane8>(one: &[Self; 8]) -> DielectricLanes<L> {
         DielectricLanes {
             eta: L::from_array(one.map(|d| d.eta)),
-            reflectance: gather_v3(one.map(|d| d.reflectance)),
-            transmittance: gather_v3(one.map(|d| d.transmittance)),
+            reflectance: V3::from_lanes(&one.map(|d| d.reflectance.into())),
+            transmittance: V3::from_lanes(&one.map(|d| d.transmittance.into())),
             ggx: Ggx {
                 ax: L::from_array(one.map(|d| d.ggx.ax)),
                 ay: L::from_array(one.map(|d| d.ggx.ay)),

@@ -5,7 +5,7 @@
 //! one-lane instance, and the path tracer's eight-lane bounce (`diffuse_lanes.rs`) calls
 //! the same routines.
 
-use super::{gather_v3, one_lane_methods, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, TransportMode};
+use super::{one_lane_methods, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, TransportMode};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::{warp, Rgb};
@@ -37,7 +37,7 @@ impl Gather for DiffuseLanes<f32> {
     #[inline(always)]
     fn gather<L: Lane8>(one: &[Self; 8]) -> DiffuseLanes<L> {
         DiffuseLanes {
-            reflectance: gather_v3(one.map(|d| d.reflectance)),
+            reflectance: V3::from_lanes(&one.map(|d| d.reflectance.into())),
         }
     }
 }

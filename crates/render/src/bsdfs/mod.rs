@@ -72,6 +72,14 @@ pub struct BsdfSample {
     pub eta: f32,
 }
 
+impl BsdfSample {
+    /// Whether an integrator may follow the sample: a positive density and finite values.
+    #[inline]
+    pub(crate) fn usable(&self) -> bool {
+        self.pdf > 0.0 && self.weight.is_finite() && self.wi.is_finite()
+    }
+}
+
 /// [`BsdfSample`] in lanes of any [`Real`] type, with the lanes where a sample exists.
 #[derive(Clone, Copy, Debug)]
 pub struct LaneSample<R: Real> {
@@ -114,16 +122,6 @@ pub trait LaneKernel<R: Real> {
 pub trait Gather: Copy {
     type Lanes<L: Lane8>: LaneKernel<L>;
     fn gather<L: Lane8>(one: &[Self; 8]) -> Self::Lanes<L>;
-}
-
-/// Lane `k` of the result holds `v[k]`.
-#[inline(always)]
-pub(crate) fn gather_v3<L: Lane8>(v: [V3<f32>; 8]) -> V3<L> {
-    V3::new(
-        L::from_array(v.map(|v| v.x)),
-        L::from_array(v.map(|v| v.y)),
-        L::from_array(v.map(|v| v.z)),
-    )
 }
 
 /// The scalar [`BsdfModel`] methods `eval`, `pdf` and `sample` of a kind whose
@@ -281,7 +279,7 @@ macro_rules! bsdf_kinds {
                 let s = match self {
                     $(BsdfKind::$variant(b) => b.sample(wo, u, u2, mode)),*
                 }?;
-                (s.pdf > 0.0 && s.weight.is_finite() && s.wi.is_finite()).then_some(s)
+                s.usable().then_some(s)
             }
 
             pub fn specular_rays(&self, wo: Vec3, mode: TransportMode) -> SpecularRays {
@@ -327,7 +325,7 @@ pub struct Bsdf<'a> {
 
 /// z flipped: the direction mirrored through the tangent plane.
 #[inline]
-fn flip(w: Vec3) -> Vec3 {
+pub(crate) fn flip(w: Vec3) -> Vec3 {
     Vec3::new(w.x, w.y, -w.z)
 }
 
@@ -338,7 +336,7 @@ impl<'a> Bsdf<'a> {
 
     /// Whether directions about `wo` must be mirrored onto the front first.
     #[inline]
-    fn mirrored(&self, wo: Vec3) -> bool {
+    pub(crate) fn mirrored(&self, wo: Vec3) -> bool {
         self.two_sided && wo.z < 0.0
     }
 

@@ -14,8 +14,7 @@
 
 use super::microfacet::Ggx;
 use super::{
-    gather_v3, one_lane_methods, reflect_z, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays,
-    TransportMode,
+    one_lane_methods, reflect_z, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays, TransportMode,
 };
 use crate::optics::fresnel_dielectric;
 use glam::{Vec2, Vec3};
@@ -150,6 +149,8 @@ pub struct PlasticLanes<'a, R: Real> {
     pub internal_reflectance: R,
     /// Each lane's transmittance table (`None`: a smooth coating's 1 - F).
     pub tables: [Option<&'a [f32; TABLE]>; 8],
+    /// The lanes that have a table.
+    pub tabulated: R::Mask,
     pub specular_weight: R,
     /// The microfacet distribution (any positive roughness where `rough` does not hold).
     pub ggx: Ggx<R>,
@@ -168,6 +169,7 @@ impl<'a> Plastic<'a> {
             eta: self.eta,
             internal_reflectance: self.coating.internal_reflectance,
             tables,
+            tabulated: tables[0].is_some(),
             specular_weight: self.specular_weight,
             ggx: self.alpha.unwrap_or(Ggx { ax: 1.0, ay: 1.0 }),
             rough: self.alpha.is_some(),
@@ -180,11 +182,12 @@ impl<'a> Gather for PlasticLanes<'a, f32> {
     #[inline(always)]
     fn gather<L: Lane8>(one: &[Self; 8]) -> PlasticLanes<'a, L> {
         PlasticLanes {
-            diffuse: gather_v3(one.map(|p| p.diffuse)),
-            specular: gather_v3(one.map(|p| p.specular)),
+            diffuse: V3::from_lanes(&one.map(|p| p.diffuse.into())),
+            specular: V3::from_lanes(&one.map(|p| p.specular.into())),
             eta: L::from_array(one.map(|p| p.eta)),
             internal_reflectance: L::from_array(one.map(|p| p.internal_reflectance)),
             tables: one.map(|p| p.tables[0]),
+            tabulated: L::mask_of(one.map(|p| p.tabulated)),
             specular_weight: L::from_array(one.map(|p| p.specular_weight)),
             ggx: Ggx {
                 ax: L::from_array(one.map(|p| p.ggx.ax)),
@@ -202,8 +205,7 @@ impl<R: Real> PlasticLanes<'_, R> {
     fn transmittance(&self, cos: R) -> R {
         let smooth = R::splat(1.0) - fresnel_dielectric(cos, self.eta);
         let tabulated = cos.lanes_map(|k, c| self.tables[k].map_or(0.0, |t| interpolate(t, c)));
-        let has_table = R::splat(0.0).lanes_map(|k, _| if self.tables[k].is_some() { 1.0 } else { 0.0 });
-        R::select(has_table.cmp_gt(R::splat(0.0)), tabulated, smooth)
+        R::select(self.tabulated, tabulated, smooth)
     }
 
     /// Probability of sampling the coating's reflection, seen from cosine `cos_o`.

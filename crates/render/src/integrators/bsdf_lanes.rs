@@ -7,17 +7,18 @@
 //! scalar BSDF is the kernel's one-lane instance), so the image does not depend on the
 //! bucketing.
 
-use crate::bsdfs::{Bsdf, BsdfKind, BsdfSample, Gather, LaneKernel, TransportMode};
+use super::nee::Shading;
+use crate::bsdfs::{flip, BsdfKind, BsdfSample, Gather, LaneKernel, TransportMode};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, F8, V3};
 #[cfg(target_arch = "x86_64")]
 use penumbra_core::lanes_avx::F8Avx;
 use penumbra_core::Rgb;
 
-/// What one shading point asks of its BSDF (radiance mode), in the shading frame.
+/// What one shading point asks of its BSDF (radiance mode), in the shading frame, beside
+/// the point's own view direction.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct BsdfQuery {
-    pub wo: Vec3,
     /// The direction to a light sample, if one waits, and whether its density is needed.
     pub light: Option<(Vec3, bool)>,
     pub u_lobe: f32,
@@ -32,13 +33,6 @@ pub(super) struct BsdfAnswer {
     pub sample: Option<BsdfSample>,
 }
 
-/// z flipped: the direction mirrored through the tangent plane (a two-sided BSDF seen
-/// from behind works on the front).
-#[inline]
-fn flip(w: Vec3) -> Vec3 {
-    Vec3::new(w.x, w.y, -w.z)
-}
-
 /// The BSDF kinds answered in lanes, one line each (bucket, `BsdfKind` variant): generates
 /// [`Buckets`] and its [`Buckets::answer`]. A kind with a lane kernel joins by one line here.
 macro_rules! lane_kinds {
@@ -50,19 +44,19 @@ macro_rules! lane_kinds {
         }
 
         impl Buckets {
-            /// Answers `queries[i]` for `bsdfs[i]` into `out[i]`.
-            pub fn answer<'s>(&mut self, bsdfs: &[Bsdf<'s>], queries: &[BsdfQuery], out: &mut [BsdfAnswer]) {
+            /// Answers `queries[i]` of shading point `shs[i]` into `out[i]`.
+            pub fn answer<'s>(&mut self, shs: &[Shading<'s>], queries: &[BsdfQuery], out: &mut [BsdfAnswer]) {
                 $(self.$bucket.clear();)*
-                for (i, (bsdf, q)) in bsdfs.iter().zip(queries).enumerate() {
-                    match bsdf.kind {
+                for (i, (sh, q)) in shs.iter().zip(queries).enumerate() {
+                    match sh.bsdf.kind {
                         $(BsdfKind::$variant(_) => self.$bucket.push(i),)*
-                        _ => out[i] = answer_one(bsdf, q),
+                        _ => out[i] = answer_one(sh, q),
                     }
                 }
                 let mode = TransportMode::Radiance;
                 $(
                     for group in self.$bucket.chunks(8) {
-                        answer_lanes(group, bsdfs, queries, out, |b| match b {
+                        answer_lanes(group, shs, queries, out, |b| match b {
                             BsdfKind::$variant(k) => k.lanes(mode),
                             _ => unreachable!("a bucket holds one kind"),
                         });
@@ -81,19 +75,19 @@ lane_kinds! {
 }
 
 /// One point's answers from its scalar BSDF.
-fn answer_one(bsdf: &Bsdf, q: &BsdfQuery) -> BsdfAnswer {
-    let mode = TransportMode::Radiance;
+fn answer_one(sh: &Shading, q: &BsdfQuery) -> BsdfAnswer {
+    let (bsdf, wo, mode) = (&sh.bsdf, sh.wo, TransportMode::Radiance);
     let (f, pdf) = match q.light {
         Some((l, need_pdf)) => (
-            bsdf.eval(q.wo, l, mode),
-            if need_pdf { bsdf.pdf(q.wo, l, mode) } else { 0.0 },
+            bsdf.eval(wo, l, mode),
+            if need_pdf { bsdf.pdf(wo, l, mode) } else { 0.0 },
         ),
         None => (Rgb::BLACK, 0.0),
     };
     BsdfAnswer {
         f,
         pdf,
-        sample: bsdf.sample(q.wo, q.u_lobe, q.u, mode),
+        sample: bsdf.sample(wo, q.u_lobe, q.u, mode),
     }
 }
 
@@ -121,7 +115,7 @@ struct Results {
 /// answered in lanes; lanes past the group's end repeat its last point and are dropped.
 fn answer_lanes<'s, G: Gather>(
     group: &[usize],
-    bsdfs: &[Bsdf<'s>],
+    shs: &[Shading<'s>],
     queries: &[BsdfQuery],
     out: &mut [BsdfAnswer],
     kernel: impl Fn(&BsdfKind<'s>) -> G,
@@ -130,11 +124,11 @@ fn answer_lanes<'s, G: Gather>(
     let at = |j: usize| group[j.min(n - 1)];
     // Two-sided BSDFs seen from behind work on mirrored directions (`Bsdf`'s rule).
     let mirrored: [bool; 8] = std::array::from_fn(|j| {
-        let i = at(j);
-        bsdfs[i].two_sided && queries[i].wo.z < 0.0
+        let sh = &shs[at(j)];
+        sh.bsdf.mirrored(sh.wo)
     });
     let side = |j: usize, w: Vec3| if mirrored[j] { flip(w) } else { w };
-    let one: [G; 8] = std::array::from_fn(|j| kernel(&bsdfs[at(j)].kind));
+    let one: [G; 8] = std::array::from_fn(|j| kernel(&shs[at(j)].bsdf.kind));
     let mut c = Columns {
         wo: [[0.0; 8]; 3],
         l: [[0.0; 8]; 3],
@@ -143,7 +137,7 @@ fn answer_lanes<'s, G: Gather>(
     };
     for j in 0..8 {
         let q = &queries[at(j)];
-        let (wo, l) = (side(j, q.wo), side(j, q.light.map_or(Vec3::Z, |(l, _)| l)));
+        let (wo, l) = (side(j, shs[at(j)].wo), side(j, q.light.map_or(Vec3::Z, |(l, _)| l)));
         for (axis, (a, b)) in [(wo.x, l.x), (wo.y, l.y), (wo.z, l.z)].into_iter().enumerate() {
             (c.wo[axis][j], c.l[axis][j]) = (a, b);
         }
@@ -163,8 +157,8 @@ fn answer_lanes<'s, G: Gather>(
                 delta: r.delta >> j & 1 != 0,
                 eta: r.eta[j],
             })
-            // `BsdfKind::sample`'s rule: no sample of zero density or non-finite values.
-            .filter(|s| s.pdf > 0.0 && s.weight.is_finite() && s.wi.is_finite());
+            // `BsdfKind::sample`'s rule.
+            .filter(BsdfSample::usable);
         out[i] = BsdfAnswer {
             f: if lit { Rgb::new(f.x, f.y, f.z) } else { Rgb::BLACK },
             pdf: if need_pdf { r.pdf[j] } else { 0.0 },

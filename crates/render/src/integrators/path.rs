@@ -24,7 +24,7 @@ use super::bsdf_lanes::{BsdfAnswer, BsdfQuery, Buckets};
 use super::nee::{self, LightStrategy, Shading};
 use super::path_diffuse::LaneTable;
 use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts, Splat};
-use crate::bsdfs::{Bsdf, BsdfSample};
+use crate::bsdfs::BsdfSample;
 use crate::interface::Progress;
 use crate::lights::{AreaSampling, LightSelection};
 use crate::Scene;
@@ -171,8 +171,8 @@ impl PathTracer {
         let no_ray = Ray::new(Vec3::ZERO, Vec3::Z);
         // The arrays below are written in place (no temporaries copied in) and hold only
         // what a stage needs: a batch's whole state fits the first-level data cache better.
-        // (The shading points' frames and BSDFs are collected anew at each depth: they
-        // borrow that depth's surfaces.)
+        // (The shading points are collected anew at each depth: they borrow that depth's
+        // surfaces.)
         let mut paths = [PathState {
             radiance: Rgb::BLACK,
             beta: Rgb::WHITE,
@@ -291,7 +291,6 @@ impl PathTracer {
             let shs: Vec<Shading> = its.iter().map(|(_, it)| Shading::new(it)).collect();
             queries.clear();
             points.clear();
-            let bsdfs: Vec<Bsdf> = shs.iter().map(|sh| sh.bsdf).collect();
             for ((k, _), sh) in its.iter().zip(&shs) {
                 let sampler = &mut samplers[live[*k]];
                 let point = sh.bsdf.has_smooth().then(|| {
@@ -303,7 +302,6 @@ impl PathTracer {
                 let point = point.flatten();
                 let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
                 queries.push(BsdfQuery {
-                    wo: sh.wo,
                     light: point.map(|p| (p.l, !p.ls.delta)),
                     u_lobe,
                     u,
@@ -311,7 +309,7 @@ impl PathTracer {
                 points.push(point);
             }
             answers.resize(queries.len(), BsdfAnswer::default());
-            buckets.answer(&bsdfs, &queries, &mut answers);
+            buckets.answer(&shs, &queries, &mut answers);
             // The light samples' shadow rays (kept for later) and the continuations.
             let mut m = 0;
             for (j, ((k, _), sh)) in its.iter().zip(&shs).enumerate() {
