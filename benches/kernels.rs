@@ -4,8 +4,9 @@
 //! family has an eight-lane kernel it is measured beside its scalar form on the same inputs
 //! (the BSDF kinds the wavefront shades in lanes: diffuse, conductor, dielectric, plastic,
 //! at the CPU's SIMD level; triangle-light sampling: the point by area and its solid-angle
-//! density); the other kinds have no lane form yet (issue 24), and this is where theirs
-//! will be measured.
+//! density; every texture kind; point, spot, directional and environment lights: the
+//! lanes at the CPU's SIMD level); the other kinds have no lane form yet (issue 24), and
+//! this is where theirs will be measured.
 //!
 //! `cargo bench --bench kernels` (add `-- bsdf` or `-- light` or `-- texture` for one).
 
@@ -17,7 +18,8 @@ use penumbra::math::lanes_avx::F8Avx;
 use penumbra::math::{warp, Pcg32, Rgb};
 use penumbra::renderer::bsdfs::{BsdfKind, Gather, LaneKernel, MetalFresnel, TransportMode};
 use penumbra::renderer::lights::emitter::{area_to_solid_angle, triangle_point, Emitter, EmitterShape};
-use penumbra::renderer::lights::{AreaLight, AreaSampling, Directional, Environment, Point, Spot};
+use penumbra::renderer::lights::lanes::sample_li_lanes;
+use penumbra::renderer::lights::{AreaLight, AreaSampling, Directional, Environment, LightSample, Point, Spot};
 use penumbra::renderer::materials::{
     metal_ior, Coated, ConductorMaterial, DielectricMaterial, DiffuseMaterial, Phong, Roughness,
 };
@@ -243,6 +245,9 @@ fn lights() -> Vec<(&'static str, Light)> {
     ]
 }
 
+/// Eight light samples in lanes: points and numbers to samples.
+type LanesFn<'a> = dyn Fn(&[Vec3; 8], &[Vec2; 8]) -> [Option<LightSample>; 8] + 'a;
+
 fn light_kernels(c: &mut Criterion) {
     let inputs = inputs();
     let points: Vec<Vec3> = inputs.iter().map(|&(wo, _, _)| wo * 0.3).collect();
@@ -260,6 +265,28 @@ fn light_kernels(c: &mut Criterion) {
                 black_box(sum)
             })
         });
+        let lanes = |one: &LanesFn| {
+            let mut sum = 0.0f32;
+            for (p, i) in points.chunks_exact(8).zip(inputs.chunks_exact(8)) {
+                let (p, u) = (p.try_into().expect("eight"), std::array::from_fn(|k| i[k].2));
+                for s in one(p, &u).into_iter().flatten() {
+                    sum += s.li.r / s.pdf;
+                }
+            }
+            sum
+        };
+        let run: Option<Box<LanesFn>> = match &light {
+            Light::Point(l) => Some(Box::new(|p, u| sample_li_lanes(&[l.lanes(); 8], p, u, true))),
+            Light::Spot(l) => Some(Box::new(|p, u| sample_li_lanes(&[l.lanes(); 8], p, u, true))),
+            Light::Directional(l) => Some(Box::new(|p, u| sample_li_lanes(&[l.lanes(); 8], p, u, true))),
+            Light::Environment(l) => Some(Box::new(|p, u| sample_li_lanes(&[l.lanes(); 8], p, u, false))),
+            _ => None,
+        };
+        if let Some(run) = run {
+            group.bench_function(BenchmarkId::new("8 lanes", name), |b| {
+                b.iter(|| black_box(lanes(&*run)))
+            });
+        }
     }
     group.finish();
 
@@ -369,8 +396,39 @@ fn textures(c: &mut Criterion) {
                 black_box(sum)
             })
         });
+        group.bench_function(BenchmarkId::new("8 lanes", name), |b| {
+            b.iter(|| {
+                let mut sum = 0.0f32;
+                for g in uvs.chunks_exact(8) {
+                    sum += textures_at_level(&texture, g.try_into().expect("eight"));
+                }
+                black_box(sum)
+            })
+        });
     }
     group.finish();
+}
+
+/// Eight texture lookups in lanes of `L`, their green channels summed.
+#[inline(always)]
+fn texture_pass<L: Lane8>(texture: &Texture, uv: &[Vec2; 8]) -> f32 {
+    let v = texture.eval_lanes(L::from_array(uv.map(|p| p.x)), L::from_array(uv.map(|p| p.y)));
+    v.y.to_array().iter().sum()
+}
+
+/// [`texture_pass`] at the SIMD level the renderer runs.
+fn textures_at_level(texture: &Texture, uv: &[Vec2; 8]) -> f32 {
+    #[cfg(target_arch = "x86_64")]
+    penumbra::math::level_fns! {
+        unsafe fn [avx2, avx512](texture: &Texture, uv: &[Vec2; 8]) -> f32 {
+            texture_pass::<F8Avx>(texture, uv)
+        }
+    }
+    penumbra::math::at_level!(
+        avx512: avx512(texture, uv),
+        avx2: avx2(texture, uv),
+        portable: texture_pass::<F8>(texture, uv)
+    )
 }
 
 criterion_group!(benches, bsdfs, light_kernels, textures);

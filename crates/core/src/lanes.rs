@@ -100,6 +100,24 @@ pub trait Real:
     /// Lane `k` of the result is `f(k, lane k of self)`: a scalar step per lane, for what
     /// lanes cannot do together (a lookup in a table of the lane's own).
     fn lanes_map(self, f: impl Fn(usize, f32) -> f32) -> Self;
+    /// How many lanes the type has.
+    const LANES: usize;
+    /// The largest integer not above each lane (exact, as `f32::floor`).
+    fn floor(self) -> Self;
+    /// Lane `k`'s value.
+    fn lane(self, k: usize) -> f32;
+    /// The lanes `f(0)`, `f(1)`, ...: a scalar step per lane, e.g. a gather from a table.
+    fn from_fn(f: impl FnMut(usize) -> f32) -> Self;
+    /// `M` lane values at once, `f(k)` giving lane `k`'s `M` numbers: a scalar step per
+    /// lane with several results (a table walk), made into `M` lane values.
+    fn from_fn_columns<const M: usize>(f: impl FnMut(usize) -> [f32; M]) -> [Self; M];
+    /// Per lane: whether the value is finite (neither infinite nor NaN).
+    /// (x - x is 0 for a finite x, NaN for an infinite or NaN one.)
+    #[inline(always)]
+    #[allow(clippy::eq_op)]
+    fn is_finite(self) -> Self::Mask {
+        (self - self).cmp_eq(Self::splat(0.0))
+    }
 }
 
 /// [`Real::offset_along`]'s constants (Wächter and Binder 2019): below `ORIGIN` a fixed
@@ -174,6 +192,23 @@ impl Real for f32 {
     fn lanes_map(self, f: impl Fn(usize, f32) -> f32) -> Self {
         f(0, self)
     }
+    const LANES: usize = 1;
+    #[inline(always)]
+    fn floor(self) -> Self {
+        f32::floor(self)
+    }
+    #[inline(always)]
+    fn lane(self, _k: usize) -> f32 {
+        self
+    }
+    #[inline(always)]
+    fn from_fn(mut f: impl FnMut(usize) -> f32) -> Self {
+        f(0)
+    }
+    #[inline(always)]
+    fn from_fn_columns<const M: usize>(mut f: impl FnMut(usize) -> [f32; M]) -> [Self; M] {
+        f(0)
+    }
     #[inline(always)]
     fn offset_along(self, n: Self) -> Self {
         if self.abs() < ORIGIN {
@@ -242,6 +277,23 @@ impl Real for F8 {
         let a = self.to_array();
         F8::from(std::array::from_fn::<f32, 8, _>(|k| f(k, a[k])))
     }
+    const LANES: usize = 8;
+    #[inline(always)]
+    fn floor(self) -> Self {
+        F8(self.0.floor())
+    }
+    #[inline(always)]
+    fn lane(self, k: usize) -> f32 {
+        self.to_array()[k]
+    }
+    #[inline(always)]
+    fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
+        F8::from(std::array::from_fn::<f32, 8, _>(f))
+    }
+    #[inline(always)]
+    fn from_fn_columns<const M: usize>(f: impl FnMut(usize) -> [f32; M]) -> [Self; M] {
+        columns(f).map(F8::from)
+    }
     #[inline(always)]
     fn offset_along(self, n: Self) -> Self {
         use wide::{i32x8, CmpLt};
@@ -254,6 +306,18 @@ impl Real for F8 {
         let moved: wide::f32x8 = bytemuck::cast(negative.blend(bits - of_i, bits + of_i));
         F8(near_origin.blend(fixed, moved))
     }
+}
+
+/// Eight lanes' `M` numbers each, `f(k)` for lane `k`, as `M` columns of eight.
+#[inline(always)]
+pub(crate) fn columns<const M: usize>(mut f: impl FnMut(usize) -> [f32; M]) -> [[f32; 8]; M] {
+    let mut c = [[0.0; 8]; M];
+    for k in 0..8 {
+        for (column, v) in c.iter_mut().zip(f(k)) {
+            column[k] = v;
+        }
+    }
+    c
 }
 
 /// An eight-lane [`Real`]: [`F8`] (portable), or `F8Avx` (`crate::lanes_avx`, inside the
@@ -394,6 +458,14 @@ impl From<V3<f32>> for glam::Vec3 {
     #[inline(always)]
     fn from(v: V3<f32>) -> Self {
         glam::Vec3::new(v.x, v.y, v.z)
+    }
+}
+
+impl<R: Real> V3<R> {
+    /// A colour in every lane.
+    #[inline(always)]
+    pub fn splat_rgb(c: crate::Rgb) -> Self {
+        V3::new(R::splat(c.r), R::splat(c.g), R::splat(c.b))
     }
 }
 

@@ -116,6 +116,24 @@ impl Real for F8Avx {
         let a = Lane8::to_array(self);
         Self::from_array(std::array::from_fn(|k| f(k, a[k])))
     }
+    const LANES: usize = 8;
+    #[inline(always)]
+    fn floor(self) -> Self {
+        // SAFETY: see the module's note.
+        F8Avx(unsafe { _mm256_floor_ps(self.0) })
+    }
+    #[inline(always)]
+    fn lane(self, k: usize) -> f32 {
+        Lane8::to_array(self)[k]
+    }
+    #[inline(always)]
+    fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
+        Self::from_array(std::array::from_fn(f))
+    }
+    #[inline(always)]
+    fn from_fn_columns<const M: usize>(f: impl FnMut(usize) -> [f32; M]) -> [Self; M] {
+        crate::lanes::columns(f).map(Self::from_array)
+    }
     /// [`Real::offset_along`] as `f32` computes it: the integer step truncated towards
     /// zero, saturated, NaN giving 0 (as `as i32` does).
     #[inline(always)]
@@ -251,6 +269,8 @@ mod tests {
             same(pa.max(pb), xa.max(xb), "max");
             same(pa.copysign(pb), xa.copysign(xb), "copysign");
             same(pa.offset_along(pb), xa.offset_along(xb), "offset_along");
+            same(pa.floor(), xa.floor(), "floor");
+            assert_eq!(bits(pa.floor().to_array()), bits(a.map(f32::floor)), "floor of {a:?}");
             let masks = [
                 (F8::bits(pa.cmp_lt(pb)), F8Avx::bits(xa.cmp_lt(xb))),
                 (F8::bits(pa.cmp_le(pb)), F8Avx::bits(xa.cmp_le(xb))),

@@ -49,14 +49,20 @@ pub const UNIFORM_DISK_PDF: f32 = FRAC_1_PI;
 
 /// A direction uniform over the sphere (Archimedes: z uniform in [-1, 1]). Density 1/(4π).
 pub fn uniform_sphere(u: Vec2) -> Vec3 {
-    at_height(1.0 - 2.0 * u.x, u.y)
+    uniform_sphere_lanes(u.x, u.y).into()
+}
+
+/// [`uniform_sphere`] per lane of any [`Real`] type.
+#[inline(always)]
+pub fn uniform_sphere_lanes<R: Real>(ux: R, uy: R) -> V3<R> {
+    at_height(R::splat(1.0) - R::splat(2.0) * ux, uy)
 }
 
 pub const UNIFORM_SPHERE_PDF: f32 = 1.0 / (4.0 * PI);
 
 /// A direction uniform over the upper (z >= 0) hemisphere. Density 1/(2π).
 pub fn uniform_hemisphere(u: Vec2) -> Vec3 {
-    at_height(u.x, u.y)
+    at_height(u.x, u.y).into()
 }
 
 pub const UNIFORM_HEMISPHERE_PDF: f32 = 1.0 / (2.0 * PI);
@@ -81,13 +87,13 @@ pub fn cosine_hemisphere_pdf(w: Vec3) -> f32 {
 
 /// A direction uniform over the cone of directions within angle acos(`cos_max`) of +z.
 pub fn uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
-    at_height(1.0 - u.x * (1.0 - cos_max), u.y)
+    at_height(1.0 - u.x * (1.0 - cos_max), u.y).into()
 }
 
 /// A direction about +z with density (n + 1)/(2π) cos^n θ over the upper hemisphere: the
 /// lobe of the normalized Phong BRDF (Lafortune and Willems 1994), cos θ = u^(1/(n+1)).
 pub fn phong_lobe(u: Vec2, exponent: f32) -> Vec3 {
-    at_height(u.x.powf(1.0 / (exponent + 1.0)), u.y)
+    at_height(u.x.powf(1.0 / (exponent + 1.0)), u.y).into()
 }
 
 /// Density of [`phong_lobe`] at `w`.
@@ -101,10 +107,12 @@ pub fn phong_lobe_pdf(w: Vec3, exponent: f32) -> f32 {
 
 /// The unit direction with z-coordinate `z` at azimuth 2π `u_phi`: uniform z and azimuth
 /// give uniform solid angle (Archimedes' hat-box theorem).
-fn at_height(z: f32, u_phi: f32) -> Vec3 {
-    let r = (1.0 - z * z).max(0.0).sqrt();
+#[inline(always)]
+fn at_height<R: Real>(z: R, u_phi: R) -> V3<R> {
+    // 1 - z² is never -0, so `max`'s choice between zeros cannot show.
+    let r = (R::splat(1.0) - z * z).max(R::splat(0.0)).sqrt();
     let (sin, cos) = crate::trig::sin_cos_turns(u_phi);
-    Vec3::new(r * cos, r * sin, z)
+    V3::new(r * cos, r * sin, z)
 }
 
 /// Density of [`uniform_cone`] at `w`: 1 / (2π (1 - cos_max)) inside the cone, else zero.

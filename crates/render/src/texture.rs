@@ -12,12 +12,20 @@ pub use checker::Checker;
 pub use image::{ImageTexture, TextureImage, Wrap};
 
 use glam::Vec2;
+use penumbra_core::lanes::{Real, V3};
 use penumbra_core::Rgb;
 
-/// What every texture answers.
+/// What every texture answers. A kind writes its lookup once, over the lane type
+/// ([`TextureModel::eval_lanes`]); the scalar [`TextureModel::eval`] is its one-lane
+/// instance.
 pub trait TextureModel {
+    /// The colour at texture coordinates (`u`, `v`), per lane of any [`Real`] type.
+    fn eval_lanes<R: Real>(&self, u: R, v: R) -> V3<R>;
     /// The colour at texture coordinates `uv`.
-    fn eval(&self, uv: Vec2) -> Rgb;
+    #[inline]
+    fn eval(&self, uv: Vec2) -> Rgb {
+        self.eval_lanes(uv.x, uv.y).into()
+    }
     /// The smallest value the texture takes, per channel.
     fn min_value(&self) -> Rgb;
     /// The largest value the texture takes, per channel.
@@ -49,6 +57,14 @@ macro_rules! texture_kinds {
             pub fn eval(&self, uv: Vec2) -> Rgb {
                 match self {
                     $(Texture::$variant(t) => t.eval(uv)),*
+                }
+            }
+
+            /// [`TextureModel::eval_lanes`].
+            #[inline(always)]
+            pub fn eval_lanes<R: Real>(&self, u: R, v: R) -> V3<R> {
+                match self {
+                    $(Texture::$variant(t) => t.eval_lanes(u, v)),*
                 }
             }
 
@@ -153,24 +169,76 @@ mod tests {
         assert_eq!(t.eval(Vec2::new(-0.5, -0.5)), Rgb::WHITE);
     }
 
+    /// A case of every registered kind (images with every wrap mode).
+    fn cases() -> Vec<Texture> {
+        let image = |wrap| TextureImage {
+            width: 3,
+            height: 2,
+            pixels: (0..6).map(|i| Rgb::new(i as f32, 5.0 - i as f32, 0.5)).collect(),
+            wrap,
+        };
+        let mut cases = vec![
+            Texture::Constant(Rgb::new(0.1, 0.2, 0.3)),
+            Texture::Checker(Checker::default()),
+            Texture::Checker(Checker {
+                size: 0.3,
+                ..Checker::default()
+            }),
+        ];
+        for wrap in [
+            [Wrap::Mirror, Wrap::Clamp],
+            [Wrap::Repeat, Wrap::Black],
+            [Wrap::Black, Wrap::Mirror],
+        ] {
+            cases.push(Texture::Image(ImageTexture {
+                image: Arc::new(image(wrap)),
+                scale: 1.5,
+            }));
+        }
+        cases
+    }
+
+    /// Eight lanes give, lane by lane, the bits of the one-lane lookup (which the exact
+    /// values of the tests above pin down), at random points, cell edges, huge, infinite
+    /// and NaN coordinates.
+    #[test]
+    fn lanes_give_each_lane_the_scalar_bits() {
+        use penumbra_core::lanes::{Lane8, F8};
+        let special = [0.0, -0.0, 0.5, -0.5, 1.0, 1e30, -1e30, f32::INFINITY, f32::NAN, 2.5e7];
+        let mut rng = penumbra_core::Pcg32::new(5, 2);
+        let mut coordinate = |k: u32| {
+            if rng.next_u32().is_multiple_of(4) {
+                special[(rng.next_u32() as usize + k as usize) % special.len()]
+            } else {
+                rng.next_f32() * 8.0 - 4.0
+            }
+        };
+        for t in &cases() {
+            for round in 0..2_000 {
+                let u: [f32; 8] = std::array::from_fn(|k| coordinate(round + k as u32));
+                let v: [f32; 8] = std::array::from_fn(|k| coordinate(round + 3 * k as u32));
+                let lanes = t.eval_lanes(F8::from_array(u), F8::from_array(v)).to_lanes();
+                for k in 0..8 {
+                    let one = t.eval(Vec2::new(u[k], v[k]));
+                    let bits = |c: [f32; 3]| c.map(f32::to_bits);
+                    assert_eq!(
+                        bits(lanes[k].to_array()),
+                        bits([one.r, one.g, one.b]),
+                        "{} at ({}, {})",
+                        t.name(),
+                        u[k],
+                        v[k]
+                    );
+                }
+            }
+        }
+    }
+
     /// Every registered kind has a case here, and each case's values lie within its
     /// `min_value` and `max_value` at 10,000 random points (wrapping beyond [0, 1] too).
     #[test]
     fn every_kind_stays_within_its_bounds() {
-        let image = TextureImage {
-            width: 3,
-            height: 2,
-            pixels: (0..6).map(|i| Rgb::new(i as f32, 5.0 - i as f32, 0.5)).collect(),
-            wrap: [Wrap::Mirror, Wrap::Clamp],
-        };
-        let cases = [
-            Texture::Constant(Rgb::new(0.1, 0.2, 0.3)),
-            Texture::Checker(Checker::default()),
-            Texture::Image(ImageTexture {
-                image: Arc::new(image),
-                scale: 1.5,
-            }),
-        ];
+        let cases = cases();
         for name in Texture::NAMES {
             assert!(
                 cases.iter().any(|t| t.name() == *name),

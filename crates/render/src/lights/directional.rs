@@ -4,10 +4,12 @@
 //! Native format: `type = "directional"`, `direction` (the way the light travels,
 //! default `[0, -1, 0]`), `irradiance` (colour, default `[1, 1, 1]`).
 
+use super::lanes::{is_black, LaneLightSample, LightGather, LightKernel};
 use super::{
     delta_light_answers, disk_origin, disk_pdf, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere,
 };
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::{Ray, Rgb};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -27,15 +29,50 @@ impl Default for Directional {
     }
 }
 
-impl Directional {
-    pub fn sample_li(&self, _p: Vec3) -> Option<LightSample> {
-        (!self.irradiance.is_black()).then(|| LightSample {
+/// A directional light in lanes of any [`Real`] type.
+#[derive(Clone, Copy, Debug)]
+pub struct DirectionalLanes<R: Real> {
+    pub direction: V3<R>,
+    pub irradiance: V3<R>,
+}
+
+impl<R: Real> LightKernel<R> for DirectionalLanes<R> {
+    /// The same direction and irradiance wherever the point (none where it is black).
+    #[inline(always)]
+    fn sample_li(&self, _p: V3<R>, _u: (R, R)) -> LaneLightSample<R> {
+        LaneLightSample {
             wi: -self.direction,
             li: self.irradiance,
-            dist: f32::INFINITY,
-            pdf: 1.0,
-            delta: true,
-        })
+            dist: R::splat(f32::INFINITY),
+            pdf: R::splat(1.0),
+            ok: R::not(is_black(self.irradiance)),
+        }
+    }
+}
+
+impl LightGather for DirectionalLanes<f32> {
+    type Lanes<L: Lane8> = DirectionalLanes<L>;
+    #[inline(always)]
+    fn gather<L: Lane8>(one: &[Self; 8]) -> DirectionalLanes<L> {
+        DirectionalLanes {
+            direction: V3::from_lanes(&one.map(|l| l.direction.into())),
+            irradiance: V3::from_lanes(&one.map(|l| l.irradiance.into())),
+        }
+    }
+}
+
+impl Directional {
+    /// The one-lane instance of the arithmetic.
+    #[inline(always)]
+    pub fn lanes(&self) -> DirectionalLanes<f32> {
+        DirectionalLanes {
+            direction: self.direction.into(),
+            irradiance: self.irradiance.into(),
+        }
+    }
+
+    pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
+        self.lanes().sample_li(p.into(), (0.0, 0.0)).one(true)
     }
 
     /// A ray along the light's direction from a point of the disk that covers the scene.

@@ -8,9 +8,11 @@
 //! Each pixel is constant over its cell (no filtering), so the sampling density is exactly
 //! proportional to the luminance it samples.
 
+use super::lanes::{mat3_mul, LaneLightSample, LightGather, LightKernel};
 use super::{disk_origin, disk_pdf, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere};
 use crate::texture::TextureImage;
 use glam::{Mat3, Vec2, Vec3};
+use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::{trig, warp, Distribution2D, Ray, Rgb};
 use std::f32::consts::PI;
 
@@ -139,11 +141,25 @@ impl Environment {
     }
 
     /// The world direction of map point (u, v), and sin θ there.
+    #[cfg(test)]
     fn direction(&self, uv: Vec2) -> (Vec3, f32) {
-        let (sin_phi, cos_phi) = trig::sin_cos_turns(uv.x);
-        let (sin_theta, cos_theta) = trig::sin_cos_turns(0.5 * uv.y);
-        let local = Vec3::new(sin_phi * sin_theta, cos_theta, -cos_phi * sin_theta);
-        (self.to_world * local, sin_theta)
+        let (d, sin_theta) = self.direction_lanes(uv.x, uv.y);
+        (d.into(), sin_theta)
+    }
+
+    /// The world direction of map point (`u`, `v`), and sin θ there, per lane.
+    #[inline(always)]
+    fn direction_lanes<R: Real>(&self, u: R, v: R) -> (V3<R>, R) {
+        let (sin_phi, cos_phi) = trig::sin_cos_turns(u);
+        let (sin_theta, cos_theta) = trig::sin_cos_turns(R::splat(0.5) * v);
+        let local = V3::new(sin_phi * sin_theta, cos_theta, -cos_phi * sin_theta);
+        (mat3_mul(&self.to_world, local), sin_theta)
+    }
+
+    /// The one-lane instance of the light-sampling arithmetic.
+    #[inline(always)]
+    pub fn lanes(&self) -> EnvironmentLanes<'_> {
+        EnvironmentLanes { env: self }
     }
 
     /// Radiance arriving from direction `d` (pointing away from the scene).
@@ -158,35 +174,7 @@ impl Environment {
 
     /// A direction towards the environment, with its radiance and solid-angle density.
     pub fn sample_li(&self, u: Vec2) -> Option<LightSample> {
-        let at = match &self.image {
-            None => {
-                let wi = warp::uniform_sphere(u);
-                (wi, self.lookup(wi))
-            }
-            Some((_, distribution)) => {
-                let ([x, y], _, texel) = distribution.sample_item([u.x, u.y]);
-                let (wi, sin_theta) = self.direction(Vec2::new(x, y));
-                if sin_theta <= 0.0 {
-                    return None;
-                }
-                // The radiance and density of the sampled point's own pixel (as Mitsuba's
-                // `envmap` takes them): no mapping of the direction back to the map. The
-                // point stays inside its cell, so it is the pixel the density chose.
-                let at = MapPoint {
-                    le: texel.radiance,
-                    pdf: solid_angle_density(texel.density, sin_theta),
-                };
-                (wi, at)
-            }
-        };
-        let (wi, MapPoint { le, pdf }) = at;
-        (pdf > 0.0 && pdf.is_finite()).then_some(LightSample {
-            wi,
-            li: le,
-            dist: f32::INFINITY,
-            pdf,
-            delta: false,
-        })
+        self.lanes().sample_li(V3::splat(0.0), (u.x, u.y)).one(false)
     }
 
     /// Solid-angle density of [`Environment::sample_li`] at direction `d`.
@@ -222,10 +210,71 @@ impl Environment {
 /// The solid-angle density of a direction at polar sine `sin_theta` in a cell of 2D
 /// density `density`: the equirectangular map's Jacobian is 2π² sin θ (pbrt-v4 section 12.5.2).
 fn solid_angle_density(density: f32, sin_theta: f32) -> f32 {
-    if sin_theta <= 0.0 {
-        return 0.0;
+    solid_angle_density_lanes(density, sin_theta)
+}
+
+/// [`solid_angle_density`] per lane.
+#[inline(always)]
+fn solid_angle_density_lanes<R: Real>(density: R, sin_theta: R) -> R {
+    let zero = R::splat(0.0);
+    R::select(
+        sin_theta.cmp_le(zero),
+        zero,
+        density / (R::splat(2.0 * PI * PI) * sin_theta),
+    )
+}
+
+/// The environment's light sampling in lanes of any [`Real`] type: the map's cells drawn
+/// per lane from its distribution (a table walk of each lane's own), the directions and
+/// densities in lanes. The scene's one environment serves every lane.
+#[derive(Clone, Copy, Debug)]
+pub struct EnvironmentLanes<'a> {
+    env: &'a Environment,
+}
+
+impl<R: Real> LightKernel<R> for EnvironmentLanes<'_> {
+    #[inline(always)]
+    fn sample_li(&self, _p: V3<R>, u: (R, R)) -> LaneLightSample<R> {
+        let env = self.env;
+        let (wi, le, pdf) = match &env.image {
+            None => (
+                warp::uniform_sphere_lanes(u.0, u.1),
+                V3::splat_rgb(env.scale),
+                R::splat(1.0 / (4.0 * PI)),
+            ),
+            Some((_, distribution)) => {
+                // Each lane's cell: its point (x, y) in the map, radiance and 2D density.
+                let [x, y, r, g, b, density] = R::from_fn_columns(|k| {
+                    let ([x, y], _, texel) = distribution.sample_item([u.0.lane(k), u.1.lane(k)]);
+                    let t = &texel.radiance;
+                    [x, y, t.r, t.g, t.b, texel.density]
+                });
+                let (wi, sin_theta) = env.direction_lanes(x, y);
+                // The radiance and density of the sampled point's own pixel (as Mitsuba's
+                // `envmap` takes them): no mapping of the direction back to the map. The
+                // point stays inside its cell, so it is the pixel the density chose.
+                let pdf = solid_angle_density_lanes(density, sin_theta);
+                (wi, V3::new(r, g, b), pdf)
+            }
+        };
+        LaneLightSample {
+            wi,
+            li: le,
+            dist: R::splat(f32::INFINITY),
+            pdf,
+            ok: R::and(pdf.cmp_gt(R::splat(0.0)), pdf.is_finite()),
+        }
     }
-    density / (2.0 * PI * PI * sin_theta)
+}
+
+impl<'a> LightGather for EnvironmentLanes<'a> {
+    type Lanes<L: Lane8> = EnvironmentLanes<'a>;
+    /// The one environment of the eight lanes.
+    #[inline(always)]
+    fn gather<L: Lane8>(one: &[Self; 8]) -> EnvironmentLanes<'a> {
+        debug_assert!(one.iter().all(|e| std::ptr::eq(e.env, one[0].env)));
+        one[0]
+    }
 }
 
 /// ∫ g(L) dω over the sphere for a map constant over each pixel: each pixel of row y spans

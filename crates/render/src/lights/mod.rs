@@ -21,6 +21,9 @@ pub mod emitter;
 #[cfg(test)]
 mod emitter_tests;
 pub mod environment;
+pub mod lanes;
+#[cfg(test)]
+mod lanes_tests;
 mod point;
 mod set;
 mod spot;
@@ -28,11 +31,12 @@ mod spot;
 mod tests_table;
 
 pub use area::{AreaLight, AreaSampling, EmissionTexture};
-pub use directional::Directional;
-pub use environment::Environment;
-pub use point::Point;
+pub use directional::{Directional, DirectionalLanes};
+pub use environment::{Environment, EnvironmentLanes};
+pub use lanes::{LaneLightSample, LightGather, LightKernel};
+pub use point::{Point, PointLanes};
 pub use set::{LightSelection, LightSet, LightSetBuilder};
-pub use spot::Spot;
+pub use spot::{Spot, SpotLanes};
 
 use glam::{Vec2, Vec3};
 use penumbra_core::{warp, Frame, Ray, Rgb};
@@ -289,21 +293,4 @@ pub(crate) fn disk_origin((center, radius): SceneSphere, dir: Vec3, u: Vec2) -> 
 /// Density per unit area of [`disk_origin`].
 pub(crate) fn disk_pdf((_, radius): SceneSphere) -> f32 {
     1.0 / (PI * radius * radius)
-}
-
-/// Light from a point source of `intensity` at `position`, seen from `p`: inverse-square falloff.
-pub(crate) fn delta_sample(p: Vec3, position: Vec3, intensity: Rgb) -> Option<LightSample> {
-    let to_light = position - p;
-    let dist2 = to_light.length_squared();
-    if dist2 == 0.0 || intensity.is_black() {
-        return None;
-    }
-    let dist = dist2.sqrt();
-    Some(LightSample {
-        wi: to_light / dist,
-        li: intensity / dist2,
-        dist,
-        pdf: 1.0,
-        delta: true,
-    })
 }

@@ -4,8 +4,10 @@
 //! Native format: `type = "point"`, `position` (required), `intensity` (colour, default
 //! `[1, 1, 1]`).
 
-use super::{delta_light_answers, delta_sample, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere};
+use super::lanes::{delta_sample_lanes, LaneLightSample, LightGather, LightKernel};
+use super::{delta_light_answers, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere};
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::{warp, Ray, Rgb};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -24,9 +26,43 @@ impl Default for Point {
     }
 }
 
+/// A point light in lanes of any [`Real`] type.
+#[derive(Clone, Copy, Debug)]
+pub struct PointLanes<R: Real> {
+    pub position: V3<R>,
+    pub intensity: V3<R>,
+}
+
+impl<R: Real> LightKernel<R> for PointLanes<R> {
+    #[inline(always)]
+    fn sample_li(&self, p: V3<R>, _u: (R, R)) -> LaneLightSample<R> {
+        delta_sample_lanes(p, self.position, self.intensity)
+    }
+}
+
+impl LightGather for PointLanes<f32> {
+    type Lanes<L: Lane8> = PointLanes<L>;
+    #[inline(always)]
+    fn gather<L: Lane8>(one: &[Self; 8]) -> PointLanes<L> {
+        PointLanes {
+            position: V3::from_lanes(&one.map(|l| l.position.into())),
+            intensity: V3::from_lanes(&one.map(|l| l.intensity.into())),
+        }
+    }
+}
+
 impl Point {
+    /// The one-lane instance of the arithmetic.
+    #[inline(always)]
+    pub fn lanes(&self) -> PointLanes<f32> {
+        PointLanes {
+            position: self.position.into(),
+            intensity: self.intensity.into(),
+        }
+    }
+
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
-        delta_sample(p, self.position, self.intensity)
+        self.lanes().sample_li(p.into(), (0.0, 0.0)).one(true)
     }
 
     /// A ray in a direction uniform over the sphere.

@@ -6,8 +6,10 @@
 //! (degrees, half-angle of the lit cone, default 30), `falloff_start` (degrees, from 0 to
 //! `cone_angle`, default the smaller of 25 and `cone_angle`).
 
-use super::{delta_light_answers, delta_sample, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere};
+use super::lanes::{delta_sample_lanes, LaneLightSample, LightGather, LightKernel};
+use super::{delta_light_answers, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere};
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::{warp, Frame, Ray, Rgb};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -41,20 +43,23 @@ impl Spot {
 
     /// The fraction of `intensity` emitted at angle acos(`cos_theta`) from the axis.
     pub fn falloff(&self, cos_theta: f32) -> f32 {
-        if self.cos_falloff_start <= self.cos_total {
-            return if cos_theta >= self.cos_total { 1.0 } else { 0.0 };
+        self.lanes().falloff(cos_theta)
+    }
+
+    /// The one-lane instance of the arithmetic.
+    #[inline(always)]
+    pub fn lanes(&self) -> SpotLanes<f32> {
+        SpotLanes {
+            position: self.position.into(),
+            direction: self.direction.into(),
+            intensity: self.intensity.into(),
+            cos_total: self.cos_total,
+            cos_falloff_start: self.cos_falloff_start,
         }
-        let x = ((cos_theta - self.cos_total) / (self.cos_falloff_start - self.cos_total)).clamp(0.0, 1.0);
-        x * x * (3.0 - 2.0 * x)
     }
 
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
-        let mut s = delta_sample(p, self.position, self.intensity)?;
-        let f = self.falloff((-s.wi).dot(self.direction));
-        (f > 0.0).then(|| {
-            s.li = s.li * f;
-            s
-        })
+        self.lanes().sample_li(p.into(), (0.0, 0.0)).one(true)
     }
 
     /// A ray in a direction uniform over the lit cone, carrying the falloff's intensity.
@@ -86,6 +91,58 @@ impl Spot {
             * 2.0
             * std::f32::consts::PI
             * (1.0 - 0.5 * (self.cos_falloff_start + self.cos_total))
+    }
+}
+
+/// A spot light in lanes of any [`Real`] type.
+#[derive(Clone, Copy, Debug)]
+pub struct SpotLanes<R: Real> {
+    pub position: V3<R>,
+    pub direction: V3<R>,
+    pub intensity: V3<R>,
+    pub cos_total: R,
+    pub cos_falloff_start: R,
+}
+
+impl<R: Real> SpotLanes<R> {
+    /// The fraction of the intensity emitted at angle acos(`cos_theta`) from the axis:
+    /// pbrt-v4's smoothstep between the cone's edge and the falloff's start, or a hard
+    /// edge where the falloff starts at the edge.
+    #[inline(always)]
+    pub fn falloff(&self, cos_theta: R) -> R {
+        let (zero, one) = (R::splat(0.0), R::splat(1.0));
+        let hard = R::select(cos_theta.cmp_ge(self.cos_total), one, zero);
+        let x = (cos_theta - self.cos_total) / (self.cos_falloff_start - self.cos_total);
+        // `f32::clamp(0, 1)`: NaN stays NaN.
+        let x = R::select(x.cmp_lt(zero), zero, x);
+        let x = R::select(x.cmp_gt(one), one, x);
+        let smooth = x * x * (R::splat(3.0) - R::splat(2.0) * x);
+        R::select(self.cos_falloff_start.cmp_le(self.cos_total), hard, smooth)
+    }
+}
+
+impl<R: Real> LightKernel<R> for SpotLanes<R> {
+    #[inline(always)]
+    fn sample_li(&self, p: V3<R>, _u: (R, R)) -> LaneLightSample<R> {
+        let mut s = delta_sample_lanes(p, self.position, self.intensity);
+        let f = self.falloff((-s.wi).dot(self.direction));
+        s.li = s.li.scale(f);
+        s.ok = R::and(s.ok, f.cmp_gt(R::splat(0.0)));
+        s
+    }
+}
+
+impl LightGather for SpotLanes<f32> {
+    type Lanes<L: Lane8> = SpotLanes<L>;
+    #[inline(always)]
+    fn gather<L: Lane8>(one: &[Self; 8]) -> SpotLanes<L> {
+        SpotLanes {
+            position: V3::from_lanes(&one.map(|l| l.position.into())),
+            direction: V3::from_lanes(&one.map(|l| l.direction.into())),
+            intensity: V3::from_lanes(&one.map(|l| l.intensity.into())),
+            cos_total: L::from_array(one.map(|l| l.cos_total)),
+            cos_falloff_start: L::from_array(one.map(|l| l.cos_falloff_start)),
+        }
     }
 }
 

@@ -4,7 +4,7 @@
 //! `checkerboard` and pbrt's `checkerboard` map onto it.
 
 use super::TextureModel;
-use glam::Vec2;
+use penumbra_core::lanes::{Real, V3};
 use penumbra_core::Rgb;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,13 +26,19 @@ impl Default for Checker {
 }
 
 impl TextureModel for Checker {
-    fn eval(&self, uv: Vec2) -> Rgb {
-        let cell = (uv / self.size).floor();
-        if (cell.x + cell.y).rem_euclid(2.0) < 1.0 {
-            self.even
-        } else {
-            self.odd
-        }
+    /// The square's parity: the sum of the cell indices, less twice its half's floor, is
+    /// 0 or 1 (exactly, since the indices are integers; an infinite or NaN coordinate
+    /// gives NaN, the odd colour).
+    #[inline(always)]
+    fn eval_lanes<R: Real>(&self, u: R, v: R) -> V3<R> {
+        let size = R::splat(self.size);
+        let sum = (u / size).floor() + (v / size).floor();
+        let parity = sum - R::splat(2.0) * (sum * R::splat(0.5)).floor();
+        V3::select(
+            parity.cmp_lt(R::splat(1.0)),
+            V3::splat_rgb(self.even),
+            V3::splat_rgb(self.odd),
+        )
     }
 
     fn min_value(&self) -> Rgb {

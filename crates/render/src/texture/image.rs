@@ -6,6 +6,7 @@
 
 use super::TextureModel;
 use glam::Vec2;
+use penumbra_core::lanes::{Real, V3};
 use penumbra_core::Rgb;
 use std::sync::Arc;
 
@@ -53,21 +54,40 @@ impl TextureImage {
     /// Bilinear interpolation of the four pixels around texture point `uv`, the image
     /// continued by its [`Wrap`]s; pixel centres at ((x + 0.5)/w, 1 - (y + 0.5)/h).
     pub fn bilinear(&self, uv: Vec2) -> Rgb {
+        self.bilinear_lanes(uv.x, uv.y).into()
+    }
+
+    /// [`TextureImage::bilinear`] per lane of any [`Real`] type: the weights in lanes, the
+    /// four pixels of each lane gathered by the lane's own indices. Black where a
+    /// coordinate is not finite.
+    #[inline(always)]
+    pub fn bilinear_lanes<R: Real>(&self, u: R, v: R) -> V3<R> {
         let (w, h) = (self.width as i64, self.height as i64);
-        let x = uv.x * w as f32 - 0.5;
-        let y = (1.0 - uv.y) * h as f32 - 0.5;
-        if !(x.is_finite() && y.is_finite()) {
-            return Rgb::BLACK;
-        }
+        let x = u * R::splat(w as f32) - R::splat(0.5);
+        let y = (R::splat(1.0) - v) * R::splat(h as f32) - R::splat(0.5);
         let (x0, y0) = (x.floor(), y.floor());
         let (fx, fy) = (x - x0, y - y0);
-        let at = |i: i64, j: i64| match (self.wrap[0].pixel(i, w), self.wrap[1].pixel(j, h)) {
-            (Some(i), Some(j)) => self.pixels[(j * w + i) as usize],
-            _ => Rgb::BLACK,
-        };
-        let (i, j) = (x0 as i64, y0 as i64);
-        (at(i, j) * (1.0 - fx) + at(i + 1, j) * fx) * (1.0 - fy)
-            + (at(i, j + 1) * (1.0 - fx) + at(i + 1, j + 1) * fx) * fy
+        // Each lane's four pixels, (left, right) x (top, bottom), black where a wrap gives
+        // none, by corner and channel. Cells beyond 2^40 pixels are as far as
+        // float coordinates resolve anyway (and keep `i + 1` from overflowing).
+        let far = (1i64 << 40) as f32;
+        let [r00, g00, b00, r10, g10, b10, r01, g01, b01, r11, g11, b11] = R::from_fn_columns(|k| {
+            let (i, j) = (x0.lane(k).clamp(-far, far) as i64, y0.lane(k).clamp(-far, far) as i64);
+            let column = |i| self.wrap[0].pixel(i, w);
+            let row = |j| self.wrap[1].pixel(j, h).map(|j| j * w);
+            let (left, right, top, bottom) = (column(i), column(i + 1), row(j), row(j + 1));
+            let at = |x: Option<i64>, y: Option<i64>| match (x, y) {
+                (Some(x), Some(y)) => self.pixels[(y + x) as usize],
+                _ => Rgb::BLACK,
+            };
+            let [a, b, c, d] = [at(left, top), at(right, top), at(left, bottom), at(right, bottom)];
+            [a.r, a.g, a.b, b.r, b.g, b.b, c.r, c.g, c.b, d.r, d.g, d.b]
+        });
+        let (one_x, one_y) = (R::splat(1.0) - fx, R::splat(1.0) - fy);
+        let top = V3::new(r00, g00, b00).scale(one_x) + V3::new(r10, g10, b10).scale(fx);
+        let bottom = V3::new(r01, g01, b01).scale(one_x) + V3::new(r11, g11, b11).scale(fx);
+        let value = top.scale(one_y) + bottom.scale(fy);
+        V3::select(R::and(x.is_finite(), y.is_finite()), value, V3::splat(0.0))
     }
 }
 
@@ -79,15 +99,20 @@ pub struct ImageTexture {
 }
 
 impl TextureModel for ImageTexture {
-    fn eval(&self, uv: Vec2) -> Rgb {
-        self.image.bilinear(uv * self.scale)
+    #[inline(always)]
+    fn eval_lanes<R: Real>(&self, u: R, v: R) -> V3<R> {
+        let scale = R::splat(self.scale);
+        self.image.bilinear_lanes(u * scale, v * scale)
     }
 
+    /// The darkest pixel, or black where a wrap mode shows black beyond the image.
     fn min_value(&self) -> Rgb {
-        self.image
-            .pixels
-            .iter()
-            .fold(Rgb::splat(f32::INFINITY), |a, &p| a.min(p))
+        let outside = if self.image.wrap.contains(&Wrap::Black) {
+            Rgb::BLACK
+        } else {
+            Rgb::splat(f32::INFINITY)
+        };
+        self.image.pixels.iter().fold(outside, |a, &p| a.min(p))
     }
 
     fn max_value(&self) -> Rgb {

@@ -1,0 +1,145 @@
+//! The light kernels against their one-lane instances: eight lights of a kind (or the one
+//! environment for eight points) in eight lanes give, lane by lane, the bits of the scalar
+//! `sample_li` for the same inputs, including lanes with no sample (black lights, a point
+//! at the source, directions outside a spot's cone).
+
+use super::*;
+use crate::texture::TextureImage;
+use glam::Mat3;
+use penumbra_core::lanes::{Lane8, F8, V3};
+use penumbra_core::Pcg32;
+
+fn bits(v: Vec3) -> [u32; 3] {
+    [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]
+}
+
+fn rgb_bits(c: Rgb) -> [u32; 3] {
+    [c.r.to_bits(), c.g.to_bits(), c.b.to_bits()]
+}
+
+fn point(rng: &mut Pcg32) -> Vec3 {
+    Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 4.0 - Vec3::splat(2.0)
+}
+
+fn colour(rng: &mut Pcg32, k: usize) -> Rgb {
+    if k % 5 == 4 {
+        Rgb::BLACK
+    } else {
+        Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 3.0
+    }
+}
+
+/// Runs `lanes` on eight random points (lane 3 at `at_source` when given) and compares
+/// each lane with `scalar(k, p, u)`; the number of lanes with a sample.
+fn compare<K: LightKernel<F8>>(
+    rng: &mut Pcg32,
+    lanes: &K,
+    at_source: Option<Vec3>,
+    scalar: impl Fn(usize, Vec3, Vec2) -> Option<LightSample>,
+) -> usize {
+    let mut p: [Vec3; 8] = std::array::from_fn(|_| point(rng));
+    if let Some(source) = at_source {
+        p[3] = source;
+    }
+    let u: [Vec2; 8] = std::array::from_fn(|_| Vec2::new(rng.next_f32(), rng.next_f32()));
+    let s = lanes.sample_li(
+        V3::from_lanes(&p),
+        (F8::from_array(u.map(|u| u.x)), F8::from_array(u.map(|u| u.y))),
+    );
+    let ok = F8::bits(s.ok);
+    let (wi, li, dist, pdf) = (s.wi.to_lanes(), s.li.to_lanes(), s.dist.to_array(), s.pdf.to_array());
+    let mut samples = 0;
+    for k in 0..8 {
+        let one = scalar(k, p[k], u[k]);
+        assert_eq!(ok >> k & 1 != 0, one.is_some(), "lane {k}: whether a sample exists");
+        if let Some(one) = one {
+            samples += 1;
+            assert_eq!(bits(wi[k]), bits(one.wi), "lane {k}: wi");
+            assert_eq!(
+                rgb_bits(Rgb::new(li[k].x, li[k].y, li[k].z)),
+                rgb_bits(one.li),
+                "lane {k}: li"
+            );
+            assert_eq!(dist[k].to_bits(), one.dist.to_bits(), "lane {k}: dist");
+            assert_eq!(pdf[k].to_bits(), one.pdf.to_bits(), "lane {k}: pdf");
+        }
+    }
+    samples
+}
+
+#[test]
+fn point_spot_and_directional_lanes_give_the_scalar_bits() {
+    let mut rng = Pcg32::new(11, 3);
+    let (mut points, mut spots, mut directionals) = (0, 0, 0);
+    for _ in 0..2_000 {
+        let lights: [Point; 8] = std::array::from_fn(|k| Point {
+            position: point(&mut rng),
+            intensity: colour(&mut rng, k),
+        });
+        let source = Some(lights[3].position);
+        points += compare(
+            &mut rng,
+            &PointLanes::gather::<F8>(&lights.each_ref().map(|l| l.lanes())),
+            source,
+            |k, p, _| lights[k].sample_li(p),
+        );
+        let lights: [Spot; 8] = std::array::from_fn(|k| {
+            let cone = 5.0 + rng.next_f32() * 80.0;
+            // Some falloffs start at the cone's edge (a hard edge), some beyond it.
+            let start = if k % 3 == 0 { cone } else { rng.next_f32() * 100.0 };
+            Spot::new(point(&mut rng), point(&mut rng), colour(&mut rng, k), cone, start)
+        });
+        let source = Some(lights[3].position);
+        spots += compare(
+            &mut rng,
+            &SpotLanes::gather::<F8>(&lights.each_ref().map(|l| l.lanes())),
+            source,
+            |k, p, _| lights[k].sample_li(p),
+        );
+        let lights: [Directional; 8] = std::array::from_fn(|k| Directional {
+            direction: point(&mut rng).normalize(),
+            irradiance: colour(&mut rng, k),
+        });
+        directionals += compare(
+            &mut rng,
+            &DirectionalLanes::gather::<F8>(&lights.each_ref().map(|l| l.lanes())),
+            None,
+            |k, p, _| lights[k].sample_li(p),
+        );
+    }
+    // Every kind had lanes with and lanes without a sample.
+    for (kind, n) in [("point", points), ("spot", spots), ("directional", directionals)] {
+        assert!(n > 1_000 && n < 16_000, "{kind}: {n} samples of 16,000");
+    }
+}
+
+#[test]
+fn environment_lanes_give_the_scalar_bits() {
+    let (width, height) = (16, 8);
+    let map = TextureImage {
+        width,
+        height,
+        // A bright spot, a black row (never sampled) and a gradient.
+        pixels: (0..width * height)
+            .map(|i| match (i % width, i / width) {
+                (3, 2) => Rgb::new(30.0, 20.0, 10.0),
+                (_, 6) => Rgb::BLACK,
+                (x, y) => Rgb::new(0.5 + 0.03 * x as f32, 0.4, 0.1 * y as f32),
+            })
+            .collect(),
+        wrap: Default::default(),
+    };
+    let rotation = Mat3::from_axis_angle(Vec3::new(0.3, 1.0, 0.2).normalize(), 1.1);
+    let mut rng = Pcg32::new(4, 8);
+    for env in [
+        Environment::image(map, Rgb::new(1.0, 2.0, 0.5), rotation).expect("a valid map"),
+        Environment::constant(Rgb::new(0.2, 0.3, 0.4)),
+    ] {
+        let lanes = EnvironmentLanes::gather::<F8>(&[env.lanes(); 8]);
+        let mut samples = 0;
+        for _ in 0..4_000 {
+            samples += compare(&mut rng, &lanes, None, |_, _, u| env.sample_li(u));
+        }
+        assert!(samples > 30_000, "{samples} samples of 32,000");
+    }
+}
