@@ -130,6 +130,7 @@ fn bsdfs(c: &mut Criterion) {
             BsdfKind::Conductor(c) => Box::new(move |g| lanes_at_level(&[c.lanes(mode); 8], g)),
             BsdfKind::Dielectric(d) => Box::new(move |g| lanes_at_level(&[d.lanes(mode); 8], g)),
             BsdfKind::Plastic(p) => Box::new(move |g| lanes_at_level(&[p.lanes(mode); 8], g)),
+            BsdfKind::Phong(p) => Box::new(move |g| lanes_at_level(&[p.lanes(mode); 8], g)),
             _ => continue,
         };
         group.bench_function(BenchmarkId::new("8 lanes", name), |b| {

@@ -87,6 +87,9 @@ pub trait Real:
     fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     fn or(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     fn not(a: Self::Mask) -> Self::Mask;
+    /// Whether `mask` holds in any lane: work whose lanes would all be dropped by a select
+    /// may be skipped (for one lane, the scalar code's branch).
+    fn any(mask: Self::Mask) -> bool;
     /// Per lane: `t` where `mask` holds, else `f`.
     fn select(mask: Self::Mask, t: Self, f: Self) -> Self;
     /// Per lane: mask `t` where `mask` holds, else mask `f`.
@@ -111,6 +114,11 @@ pub trait Real:
     /// `M` lane values at once, `f(k)` giving lane `k`'s `M` numbers: a scalar step per
     /// lane with several results (a table walk), made into `M` lane values.
     fn from_fn_columns<const M: usize>(f: impl FnMut(usize) -> [f32; M]) -> [Self; M];
+    /// `self` to the power `e`, lane by lane as `f32::powf` computes it.
+    #[inline(always)]
+    fn powf(self, e: Self) -> Self {
+        Self::from_fn(|k| self.lane(k).powf(e.lane(k)))
+    }
     /// Per lane: whether the value is finite (neither infinite nor NaN).
     /// (x - x is 0 for a finite x, NaN for an infinite or NaN one.)
     #[inline(always)]
@@ -179,6 +187,10 @@ impl Real for f32 {
     #[inline(always)]
     fn not(a: bool) -> bool {
         !a
+    }
+    #[inline(always)]
+    fn any(mask: bool) -> bool {
+        mask
     }
     #[inline(always)]
     fn select(mask: bool, t: Self, f: Self) -> Self {
@@ -267,6 +279,10 @@ impl Real for F8 {
     #[inline(always)]
     fn not(a: wide::f32x8) -> wide::f32x8 {
         !a
+    }
+    #[inline(always)]
+    fn any(mask: wide::f32x8) -> bool {
+        mask.move_mask() != 0
     }
     #[inline(always)]
     fn select(mask: wide::f32x8, t: Self, f: Self) -> Self {

@@ -107,6 +107,11 @@ impl Real for F8Avx {
         unsafe { _mm256_xor_ps(a, _mm256_castsi256_ps(_mm256_set1_epi32(-1))) }
     }
     #[inline(always)]
+    fn any(mask: __m256) -> bool {
+        // SAFETY: see the module's note.
+        unsafe { _mm256_movemask_ps(mask) != 0 }
+    }
+    #[inline(always)]
     fn select(mask: __m256, t: Self, f: Self) -> Self {
         // SAFETY: see the module's note.
         F8Avx(unsafe { _mm256_blendv_ps(f.0, t.0, mask) })

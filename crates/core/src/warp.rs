@@ -93,16 +93,26 @@ pub fn uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
 /// A direction about +z with density (n + 1)/(2π) cos^n θ over the upper hemisphere: the
 /// lobe of the normalized Phong BRDF (Lafortune and Willems 1994), cos θ = u^(1/(n+1)).
 pub fn phong_lobe(u: Vec2, exponent: f32) -> Vec3 {
-    at_height(u.x.powf(1.0 / (exponent + 1.0)), u.y).into()
+    phong_lobe_lanes(u.x, u.y, exponent).into()
+}
+
+/// [`phong_lobe`] per lane of any [`Real`] type.
+#[inline(always)]
+pub fn phong_lobe_lanes<R: Real>(ux: R, uy: R, exponent: R) -> V3<R> {
+    at_height(ux.powf(R::splat(1.0) / (exponent + R::splat(1.0))), uy)
 }
 
 /// Density of [`phong_lobe`] at `w`.
 pub fn phong_lobe_pdf(w: Vec3, exponent: f32) -> f32 {
-    if w.z > 0.0 {
-        (exponent + 1.0) / (2.0 * PI) * w.z.powf(exponent)
-    } else {
-        0.0
-    }
+    phong_lobe_pdf_lanes(w.into(), exponent)
+}
+
+/// [`phong_lobe_pdf`] per lane of any [`Real`] type.
+#[inline(always)]
+pub fn phong_lobe_pdf_lanes<R: Real>(w: V3<R>, exponent: R) -> R {
+    let zero = R::splat(0.0);
+    let pdf = (exponent + R::splat(1.0)) / R::splat(2.0 * PI) * w.z.powf(exponent);
+    R::select(w.z.cmp_gt(zero), pdf, zero)
 }
 
 /// The unit direction with z-coordinate `z` at azimuth 2π `u_phi`: uniform z and azimuth

@@ -56,7 +56,7 @@ fn compare(rng: &mut Pcg32, scalar: &[&dyn BsdfModel; 8], lanes: &impl LaneKerne
     let s = lanes.sample(lwo, f8(u_lobe), (f8(u.map(|u| u.x)), f8(u.map(|u| u.y))));
     let (eval, pdf) = (lanes.eval(lwo, lwi).to_lanes(), lanes.pdf(lwo, lwi).to_array());
     let (ok, delta) = (F8::mask_bits(s.ok), F8::mask_bits(s.delta));
-    let (swi, sweight, spdf) = (s.wi.to_lanes(), s.weight.to_lanes(), s.pdf.to_array());
+    let (swi, sweight, spdf, seta) = (s.wi.to_lanes(), s.weight.to_lanes(), s.pdf.to_array(), s.eta.to_array());
     let mut samples = 0;
     for k in 0..8 {
         let c = scalar[k];
@@ -72,6 +72,7 @@ fn compare(rng: &mut Pcg32, scalar: &[&dyn BsdfModel; 8], lanes: &impl LaneKerne
             assert_eq!(bits(sweight[k]), bits(w), "sample weight, lane {k}");
             assert_eq!(spdf[k].to_bits(), one.pdf.to_bits(), "sample density, lane {k}");
             assert_eq!(delta >> k & 1 != 0, one.delta, "delta, lane {k}");
+            assert_eq!(seta[k].to_bits(), one.eta.to_bits(), "relative index, lane {k}");
         }
     }
     samples
@@ -168,4 +169,39 @@ fn plastic_lanes_equal_the_scalar_plastic_bit_for_bit() {
         samples += compare(&mut rng, &scalar, &lanes, TransportMode::Radiance);
     }
     assert!(samples > AT_LEAST, "only {samples} samples existed");
+}
+
+#[test]
+fn phong_lanes_equal_the_scalar_phong_bit_for_bit() {
+    let mut rng = Pcg32::new(15, 5);
+    for mode in [TransportMode::Radiance, TransportMode::Importance] {
+        let mut samples = 0;
+        for _ in 0..ROUNDS {
+            // Every mix of black and coloured diffuse, glossy, mirror and transmission
+            // parts, exponents from 0 (a flat lobe) up, indices on both sides of 1.
+            let ps: [PhongBsdf; 8] = std::array::from_fn(|k| {
+                let mut colour = |part: usize| {
+                    let c = Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 0.5;
+                    if (k >> part) & 1 == 0 && rng.next_below(2) == 0 {
+                        Rgb::BLACK
+                    } else {
+                        c
+                    }
+                };
+                let (diffuse, specular, mirror, transmission) = (colour(0), colour(1), colour(2), colour(3));
+                PhongBsdf {
+                    diffuse,
+                    specular,
+                    exponent: [0.0, 1.0, 20.0, 3.5][k % 4],
+                    mirror,
+                    transmission,
+                    eta: [1.5, 0.75, 1.0, 2.4][(k + 1) % 4],
+                }
+            });
+            let lanes = Gather::gather::<F8>(&ps.map(|p| p.lanes(mode)));
+            let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &ps[k] as &dyn BsdfModel);
+            samples += compare(&mut rng, &scalar, &lanes, mode);
+        }
+        assert!(samples > AT_LEAST, "{mode:?}: only {samples} samples existed");
+    }
 }

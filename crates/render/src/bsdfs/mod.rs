@@ -32,7 +32,7 @@ pub use conductor::{Conductor, ConductorLanes, MetalFresnel};
 pub use dielectric::{Dielectric, DielectricLanes, Lobe};
 pub use diffuse::{Diffuse, DiffuseLanes};
 pub use layered::{LayerBase, Layered};
-pub use phong::PhongBsdf;
+pub use phong::{PhongBsdf, PhongLanes};
 pub use plastic::{Coating, Plastic, PlasticLanes};
 
 use glam::{Vec2, Vec3};

@@ -4,12 +4,18 @@
 //! Fresnel-weighted dielectric interface as delta lobes. `sample` chooses among the smooth
 //! part and the delta rays in proportion to their albedos' luminance, and within the smooth
 //! part between the cosine hemisphere and the Phong lobe likewise.
+//!
+//! Written once over the lane type ([`PhongLanes`]): the scalar [`PhongBsdf`] (its
+//! `eval`, `pdf`, `sample` and the Whitted integrator's `specular_rays`) is the one-lane
+//! instance.
 
-use super::{reflect_z, same_hemisphere, BsdfModel, BsdfSample, SpecularRays, TransportMode};
-use crate::optics::{fresnel_dielectric, refract};
+use super::{one_lane_methods, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays, TransportMode};
+use crate::optics::{fresnel_dielectric, refract_lanes};
 use glam::{Vec2, Vec3};
-use penumbra_core::{warp, Frame, Rgb};
-use std::f32::consts::PI;
+use penumbra_core::frame::Basis;
+use penumbra_core::lanes::{Lane8, Real, V3};
+use penumbra_core::{warp, Rgb};
+use std::f32::consts::{FRAC_1_PI, PI};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PhongBsdf {
@@ -22,151 +28,259 @@ pub struct PhongBsdf {
     pub eta: f32,
 }
 
-/// `w` with the sign of its z taken from `side` (both-sided lobes are evaluated above).
-#[inline]
-fn upper(w: Vec3, side: f32) -> Vec3 {
-    Vec3::new(w.x, w.y, w.z * side.signum())
+/// The Phong BSDF in lanes of any [`Real`] type, for one transport mode.
+#[derive(Clone, Copy, Debug)]
+pub struct PhongLanes<R: Real> {
+    pub diffuse: V3<R>,
+    pub specular: V3<R>,
+    pub exponent: R,
+    pub mirror: V3<R>,
+    pub transmission: V3<R>,
+    pub eta: R,
+    /// Radiance (refraction into a denser medium scaled by 1/η²), else importance.
+    pub radiance: bool,
+}
+
+/// The delta rays seen from `wo`: the reflection (the mirror's and the interface's, one
+/// direction, weights added) and the refraction, each with where it exists, in the order
+/// [`SpecularRays`] lists them.
+struct DeltaRays<R: Real> {
+    reflected: V3<R>,
+    reflected_weight: V3<R>,
+    reflects: R::Mask,
+    refracted: V3<R>,
+    refracted_weight: V3<R>,
+    refracts: R::Mask,
+    /// The relative index of refraction crossed by the refraction.
+    eta: R,
+    /// The sum of the rays' luminances, as `Iterator::sum` adds them (from -0).
+    luminance: R,
+}
+
+/// Per lane: whether every channel is zero (as `Rgb::is_black`).
+#[inline(always)]
+fn is_black<R: Real>(c: V3<R>) -> R::Mask {
+    let zero = R::splat(0.0);
+    R::and(c.x.cmp_eq(zero), R::and(c.y.cmp_eq(zero), c.z.cmp_eq(zero)))
+}
+
+/// `Rgb::luminance` per lane.
+#[inline(always)]
+fn luminance<R: Real>(c: V3<R>) -> R {
+    R::splat(0.2126) * c.x + R::splat(0.7152) * c.y + R::splat(0.0722) * c.z
+}
+
+/// Mirror reflection about the normal, in the local frame.
+#[inline(always)]
+fn reflect_z<R: Real>(w: V3<R>) -> V3<R> {
+    V3::new(-w.x, -w.y, w.z)
+}
+
+/// `w` turned to the upper side (both-sided lobes are evaluated above).
+#[inline(always)]
+fn upper<R: Real>(w: V3<R>) -> V3<R> {
+    V3::new(w.x, w.y, w.z.abs())
 }
 
 impl PhongBsdf {
+    /// The one-lane instance of the arithmetic, for transport mode `mode`.
+    #[inline(always)]
+    pub fn lanes(&self, mode: TransportMode) -> PhongLanes<f32> {
+        PhongLanes {
+            diffuse: self.diffuse.into(),
+            specular: self.specular.into(),
+            exponent: self.exponent,
+            mirror: self.mirror.into(),
+            transmission: self.transmission.into(),
+            eta: self.eta,
+            radiance: mode == TransportMode::Radiance,
+        }
+    }
+}
+
+impl Gather for PhongLanes<f32> {
+    type Lanes<L: Lane8> = PhongLanes<L>;
+    /// Eight Phong BSDFs of one transport mode (the first's).
+    #[inline(always)]
+    fn gather<L: Lane8>(one: &[Self; 8]) -> PhongLanes<L> {
+        let v3 = |f: fn(&Self) -> V3<f32>| V3::from_lanes(&one.each_ref().map(|b| f(b).into()));
+        PhongLanes {
+            diffuse: v3(|b| b.diffuse),
+            specular: v3(|b| b.specular),
+            exponent: L::from_array(one.map(|b| b.exponent)),
+            mirror: v3(|b| b.mirror),
+            transmission: v3(|b| b.transmission),
+            eta: L::from_array(one.map(|b| b.eta)),
+            radiance: one[0].radiance,
+        }
+    }
+}
+
+impl<R: Real> PhongLanes<R> {
     /// Luminance of the diffuse and glossy albedos together.
-    fn smooth_albedo(&self) -> f32 {
-        self.diffuse.luminance().max(0.0) + self.specular.luminance().max(0.0)
+    #[inline(always)]
+    fn smooth_albedo(&self) -> R {
+        let zero = R::splat(0.0);
+        luminance(self.diffuse).max(zero) + luminance(self.specular).max(zero)
     }
 
-    /// The share of the smooth part in `sample`, seen from `wo`.
-    fn smooth_probability(&self, wo: Vec3, mode: TransportMode) -> f32 {
-        let smooth = self.smooth_albedo();
-        let mut rays = SpecularRays::default();
-        self.specular_rays(wo, mode, &mut rays);
-        let total = smooth + rays.as_slice().iter().map(|r| r.weight.luminance()).sum::<f32>();
-        if total > 0.0 {
-            smooth / total
-        } else {
-            0.0
-        }
+    /// The share of the cosine hemisphere in the smooth part's sampling.
+    #[inline(always)]
+    fn diffuse_share(&self, smooth: R) -> R {
+        luminance(self.diffuse).max(R::splat(0.0)) / smooth
     }
 
     /// Density of the smooth part's sampling, both directions above.
-    fn smooth_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    #[inline(always)]
+    fn smooth_pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
+        let (zero, one) = (R::splat(0.0), R::splat(1.0));
         let smooth = self.smooth_albedo();
-        if smooth <= 0.0 {
-            return 0.0;
-        }
-        let pd = self.diffuse.luminance().max(0.0) / smooth;
-        let mut pdf = pd * warp::cosine_hemisphere_pdf(wi);
-        if pd < 1.0 {
-            let lobe = Frame::from_normal(reflect_z(wo)).to_local(wi);
-            pdf += (1.0 - pd) * warp::phong_lobe_pdf(lobe, self.exponent);
-        }
-        pdf
+        let pd = self.diffuse_share(smooth);
+        let pdf = pd * (wi.z.max(zero) * R::splat(FRAC_1_PI));
+        let glossy = pd.cmp_lt(one);
+        let pdf = if R::any(glossy) {
+            let lobe = Basis::from_normal(reflect_z(wo)).to_local(wi);
+            let with_lobe = pdf + (one - pd) * warp::phong_lobe_pdf_lanes(lobe, self.exponent);
+            R::select(glossy, with_lobe, pdf)
+        } else {
+            pdf
+        };
+        R::select(smooth.cmp_le(zero), zero, pdf)
     }
 
-    fn relative_eta(&self, wo: Vec3) -> f32 {
-        if wo.z > 0.0 {
-            self.eta
+    /// The delta rays: mirror reflection, and for a transmissive material the
+    /// Fresnel-weighted reflection and refraction, radiance crossing into a denser medium
+    /// scaled by 1/η².
+    #[inline(always)]
+    fn delta_rays(&self, wo: V3<R>) -> DeltaRays<R> {
+        let (zero, one) = (R::splat(0.0), R::splat(1.0));
+        let grazing = wo.z.cmp_eq(zero);
+        let transmits = R::not(is_black(self.transmission));
+        let eta = R::select(wo.z.cmp_gt(zero), self.eta, one / self.eta);
+        let f = fresnel_dielectric(wo.z.abs(), eta);
+        let interface = V3::select(transmits, self.transmission.scale(f), V3::splat(0.0));
+        let reflected_weight = self.mirror + interface;
+        let reflects = R::and(R::not(grazing), R::not(is_black(reflected_weight)));
+        let side = one.copysign(wo.z);
+        let (refracted, exists) = refract_lanes(wo, V3::new(zero * side, zero * side, side), eta);
+        let scale = if self.radiance { one / (eta * eta) } else { one };
+        let refracted_weight = self.transmission.scale((one - f) * scale);
+        let refracts = R::and(
+            R::and(R::not(grazing), transmits),
+            R::and(R::and(f.cmp_lt(one), exists), R::not(is_black(refracted_weight))),
+        );
+        let sum = R::splat(-0.0);
+        let sum = R::select(reflects, sum + luminance(reflected_weight), sum);
+        let sum = R::select(refracts, sum + luminance(refracted_weight), sum);
+        DeltaRays {
+            reflected: reflect_z(wo),
+            reflected_weight,
+            reflects,
+            refracted,
+            refracted_weight,
+            refracts,
+            eta,
+            luminance: sum,
+        }
+    }
+}
+
+impl<R: Real> LaneKernel<R> for PhongLanes<R> {
+    /// Diffuse plus the Phong lobe about the mirror direction, where both directions are
+    /// on one side (the lobe zero outside its hemisphere, also for exponent 0).
+    #[inline(always)]
+    fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
+        let zero = R::splat(0.0);
+        let diffuse = self.diffuse.scale(R::splat(1.0 / PI));
+        let cos_alpha = reflect_z(upper(wi)).dot(upper(wo));
+        let glossy = R::and(R::not(is_black(self.specular)), cos_alpha.cmp_gt(zero));
+        let f = if R::any(glossy) {
+            let norm = (self.exponent + R::splat(2.0)) / R::splat(2.0 * PI);
+            let lobe = self.specular.scale(norm * cos_alpha.powf(self.exponent));
+            V3::select(glossy, diffuse + lobe, diffuse)
         } else {
-            1.0 / self.eta
+            diffuse
+        };
+        V3::select((wo.z * wi.z).cmp_gt(zero), f, V3::splat(0.0))
+    }
+
+    #[inline(always)]
+    fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
+        let zero = R::splat(0.0);
+        let smooth = self.smooth_albedo();
+        let total = smooth + self.delta_rays(wo).luminance;
+        let share = R::select(total.cmp_gt(zero), smooth / total, zero);
+        let pdf = share * self.smooth_pdf(upper(wo), upper(wi));
+        R::select((wo.z * wi.z).cmp_gt(zero), pdf, zero)
+    }
+
+    /// The smooth part or a delta ray, by their shares of the albedo: the smooth part by
+    /// the cosine hemisphere or the lobe (u rescaled); a delta ray by walking the rays'
+    /// luminances (rounding may leave u at the very end: then the last ray).
+    #[inline(always)]
+    fn sample(&self, wo: V3<R>, u: R, u2: (R, R)) -> LaneSample<R> {
+        let (zero, one) = (R::splat(0.0), R::splat(1.0));
+        let smooth = self.smooth_albedo();
+        let rays = self.delta_rays(wo);
+        let total = smooth + rays.luminance;
+        let valid = R::and(total.cmp_gt(zero), R::not(wo.z.cmp_eq(zero)));
+        let x = u * total;
+        let take_smooth = x.cmp_lt(smooth);
+
+        // The smooth part.
+        let side = one.copysign(wo.z);
+        let up = V3::new(wo.x, wo.y, wo.z * side);
+        let cosine = (x / smooth).cmp_lt(self.diffuse_share(smooth));
+        let cosine_wi = warp::cosine_hemisphere_lanes(u2.0, u2.1);
+        let wi = if R::any(R::and(take_smooth, R::not(cosine))) {
+            let lobe = warp::phong_lobe_lanes(u2.0, u2.1, self.exponent);
+            V3::select(cosine, cosine_wi, Basis::from_normal(reflect_z(up)).to_world(lobe))
+        } else {
+            cosine_wi
+        };
+        let above = wi.z.cmp_gt(zero);
+        let wi = V3::new(wi.x, wi.y, wi.z * side);
+        let smooth_pdf = smooth / total * self.smooth_pdf(up, upper(wi));
+        let smooth_ok = R::and(above, smooth_pdf.cmp_gt(zero));
+        let smooth_weight = self.eval(wo, wi).scale(wi.z.abs() / smooth_pdf);
+
+        // A delta ray.
+        let (reflected_luminance, refracted_luminance) =
+            (luminance(rays.reflected_weight), luminance(rays.refracted_weight));
+        let past = x - smooth - reflected_luminance;
+        let reflect = R::and(rays.reflects, R::or(past.cmp_lt(zero), R::not(rays.refracts)));
+        let chosen = R::or(reflect, rays.refracts);
+        let delta_wi = V3::select(reflect, rays.reflected, rays.refracted);
+        let weight = V3::select(reflect, rays.reflected_weight, rays.refracted_weight);
+        let p = R::select(reflect, reflected_luminance, refracted_luminance) / total;
+        let crossed = R::not((wo.z * delta_wi.z).cmp_gt(zero));
+
+        LaneSample {
+            wi: V3::select(take_smooth, wi, delta_wi),
+            weight: V3::select(take_smooth, smooth_weight, weight.scale(one / p)),
+            pdf: R::select(take_smooth, smooth_pdf, p),
+            delta: R::not(take_smooth),
+            eta: R::select(R::or(take_smooth, R::not(crossed)), one, rays.eta),
+            ok: R::and(
+                valid,
+                R::select_mask(take_smooth, smooth_ok, R::and(chosen, p.cmp_gt(zero))),
+            ),
         }
     }
 }
 
 impl BsdfModel for PhongBsdf {
-    fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Rgb {
-        if !same_hemisphere(wo, wi) {
-            return Rgb::BLACK;
-        }
-        let diffuse = self.diffuse / PI;
-        let cos_alpha = reflect_z(upper(wi, wi.z)).dot(upper(wo, wo.z));
-        // Zero outside the lobe's hemisphere (also for exponent 0, where 0^0 would be 1).
-        if self.specular.is_black() || cos_alpha <= 0.0 {
-            return diffuse;
-        }
-        diffuse + self.specular * ((self.exponent + 2.0) / (2.0 * PI) * cos_alpha.powf(self.exponent))
-    }
-
-    fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
-        if !same_hemisphere(wo, wi) {
-            return 0.0;
-        }
-        self.smooth_probability(wo, mode) * self.smooth_pdf(upper(wo, wo.z), upper(wi, wi.z))
-    }
-
-    fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
-        let smooth = self.smooth_albedo();
-        let mut rays = SpecularRays::default();
-        self.specular_rays(wo, mode, &mut rays);
-        let rays = rays.as_slice();
-        let total = smooth + rays.iter().map(|r| r.weight.luminance()).sum::<f32>();
-        if total.is_nan() || total <= 0.0 || wo.z == 0.0 {
-            return None;
-        }
-        let mut x = u * total;
-        if x < smooth {
-            // The smooth part: cosine hemisphere or Phong lobe, by the rescaled u.
-            let side = wo.z;
-            let up = upper(wo, side);
-            let pd = self.diffuse.luminance().max(0.0) / smooth;
-            let wi = if x / smooth < pd {
-                warp::cosine_hemisphere(u2)
-            } else {
-                Frame::from_normal(reflect_z(up)).to_world(warp::phong_lobe(u2, self.exponent))
-            };
-            if wi.z <= 0.0 {
-                return None;
-            }
-            let wi = upper(wi, side);
-            let pdf = smooth / total * self.smooth_pdf(up, upper(wi, wi.z));
-            return (pdf > 0.0).then(|| BsdfSample {
-                wi,
-                weight: self.eval(wo, wi, mode) * (wi.z.abs() / pdf),
-                pdf,
-                delta: false,
-                eta: 1.0,
-            });
-        }
-        // A delta ray, by its share of the albedo (rounding may leave x at the very end:
-        // then the last ray).
-        x -= smooth;
-        let chosen = rays
-            .iter()
-            .find(|r| {
-                x -= r.weight.luminance();
-                x < 0.0
-            })
-            .or(rays.last())?;
-        let p = chosen.weight.luminance() / total;
-        let refracted = !same_hemisphere(wo, chosen.wi);
-        (p > 0.0).then(|| BsdfSample {
-            wi: chosen.wi,
-            weight: chosen.weight / p,
-            pdf: p,
-            delta: true,
-            eta: if refracted { self.relative_eta(wo) } else { 1.0 },
-        })
-    }
+    one_lane_methods!();
 
     /// Mirror reflection, and for a transmissive material the Fresnel-weighted reflection
     /// and refraction, radiance crossing into a denser medium scaled by 1/η².
     fn specular_rays(&self, wo: Vec3, mode: TransportMode, rays: &mut SpecularRays) {
-        if wo.z == 0.0 {
-            return;
+        let r = self.lanes(mode).delta_rays(wo.into());
+        if r.reflects {
+            rays.push(r.reflected.into(), r.reflected_weight.into());
         }
-        rays.push(reflect_z(wo), self.mirror);
-        if self.transmission.is_black() {
-            return;
-        }
-        let eta = self.relative_eta(wo);
-        let f = fresnel_dielectric(wo.z.abs(), eta);
-        rays.push(reflect_z(wo), self.transmission * f);
-        if f < 1.0 {
-            if let Some(wi) = refract(wo, Vec3::Z * wo.z.signum(), eta) {
-                let scale = match mode {
-                    TransportMode::Radiance => 1.0 / (eta * eta),
-                    TransportMode::Importance => 1.0,
-                };
-                rays.push(wi, self.transmission * ((1.0 - f) * scale));
-            }
+        if r.refracts {
+            rays.push(r.refracted.into(), r.refracted_weight.into());
         }
     }
 
@@ -176,5 +290,12 @@ impl BsdfModel for PhongBsdf {
 
     fn albedo(&self) -> Rgb {
         self.diffuse
+    }
+}
+
+impl PhongBsdf {
+    /// Luminance of the diffuse and glossy albedos together.
+    fn smooth_albedo(&self) -> f32 {
+        self.lanes(TransportMode::Radiance).smooth_albedo()
     }
 }
