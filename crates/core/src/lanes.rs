@@ -107,17 +107,15 @@ pub trait Real:
     const LANES: usize;
     /// The largest integer not above each lane (exact, as `f32::floor`).
     fn floor(self) -> Self;
-    /// Lane `k`'s value.
-    fn lane(self, k: usize) -> f32;
-    /// The lanes `f(0)`, `f(1)`, ...: a scalar step per lane, e.g. a gather from a table.
-    fn from_fn(f: impl FnMut(usize) -> f32) -> Self;
-    /// `M` lane values at once, `f(k)` giving lane `k`'s `M` numbers: a scalar step per
-    /// lane with several results (a table walk), made into `M` lane values.
-    fn from_fn_columns<const M: usize>(f: impl FnMut(usize) -> [f32; M]) -> [Self; M];
+    /// A scalar step per lane with `N` inputs and `M` results (a table walk, a gather):
+    /// lane `k` of the results is `f(lane k of each input)`. The closure sees only `f32`s,
+    /// so it needs no SIMD level of its own.
+    fn map_lanes<const N: usize, const M: usize>(inputs: [Self; N], f: impl FnMut([f32; N]) -> [f32; M]) -> [Self; M];
     /// `self` to the power `e`, lane by lane as `f32::powf` computes it.
     #[inline(always)]
     fn powf(self, e: Self) -> Self {
-        Self::from_fn(|k| self.lane(k).powf(e.lane(k)))
+        let [p] = Self::map_lanes([self, e], |[x, e]| [x.powf(e)]);
+        p
     }
     /// Per lane: whether the value is finite (neither infinite nor NaN).
     /// (x - x is 0 for a finite x, NaN for an infinite or NaN one.)
@@ -210,16 +208,11 @@ impl Real for f32 {
         f32::floor(self)
     }
     #[inline(always)]
-    fn lane(self, _k: usize) -> f32 {
-        self
-    }
-    #[inline(always)]
-    fn from_fn(mut f: impl FnMut(usize) -> f32) -> Self {
-        f(0)
-    }
-    #[inline(always)]
-    fn from_fn_columns<const M: usize>(mut f: impl FnMut(usize) -> [f32; M]) -> [Self; M] {
-        f(0)
+    fn map_lanes<const N: usize, const M: usize>(
+        inputs: [Self; N],
+        mut f: impl FnMut([f32; N]) -> [f32; M],
+    ) -> [Self; M] {
+        f(inputs)
     }
     #[inline(always)]
     fn offset_along(self, n: Self) -> Self {
@@ -299,16 +292,8 @@ impl Real for F8 {
         F8(self.0.floor())
     }
     #[inline(always)]
-    fn lane(self, k: usize) -> f32 {
-        self.to_array()[k]
-    }
-    #[inline(always)]
-    fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
-        F8::from(std::array::from_fn::<f32, 8, _>(f))
-    }
-    #[inline(always)]
-    fn from_fn_columns<const M: usize>(f: impl FnMut(usize) -> [f32; M]) -> [Self; M] {
-        columns(f).map(F8::from)
+    fn map_lanes<const N: usize, const M: usize>(inputs: [Self; N], f: impl FnMut([f32; N]) -> [f32; M]) -> [Self; M] {
+        map_columns(inputs.map(F8::to_array), f).map(F8::from)
     }
     #[inline(always)]
     fn offset_along(self, n: Self) -> Self {
@@ -324,16 +309,58 @@ impl Real for F8 {
     }
 }
 
-/// Eight lanes' `M` numbers each, `f(k)` for lane `k`, as `M` columns of eight.
+/// Values of lanes that a mask can choose between, lane by lane.
+pub trait Choose<R: Real> {
+    /// `a` where `mask` holds, else `b`.
+    fn choose(mask: R::Mask, a: Self, b: Self) -> Self;
+}
+
+impl<R: Real> Choose<R> for R {
+    #[inline(always)]
+    fn choose(mask: R::Mask, a: Self, b: Self) -> Self {
+        R::select(mask, a, b)
+    }
+}
+
+impl<R: Real> Choose<R> for V3<R> {
+    #[inline(always)]
+    fn choose(mask: R::Mask, a: Self, b: Self) -> Self {
+        V3::select(mask, a, b)
+    }
+}
+
+/// `$a` where `$mask` holds, else `$b`, per lane of the [`Real`] type `$r` (any
+/// [`Choose`] value), evaluating only the sides some lane takes, so that a one-lane
+/// instance runs only its own branch. A macro, not a function of closures: a closure is
+/// not compiled for the SIMD level of the kernel it sits in, so its lane instructions
+/// would become calls.
+#[macro_export]
+macro_rules! choose_lanes {
+    ($r:ty, $mask:expr, $a:expr, $b:expr) => {{
+        let mask = $mask;
+        if !<$r as $crate::lanes::Real>::any(mask) {
+            $b
+        } else if !<$r as $crate::lanes::Real>::any(<$r as $crate::lanes::Real>::not(mask)) {
+            $a
+        } else {
+            $crate::lanes::Choose::<$r>::choose(mask, $a, $b)
+        }
+    }};
+}
+
+/// [`Real::map_lanes`] over eight lanes held as arrays.
 #[inline(always)]
-pub(crate) fn columns<const M: usize>(mut f: impl FnMut(usize) -> [f32; M]) -> [[f32; 8]; M] {
-    let mut c = [[0.0; 8]; M];
+pub(crate) fn map_columns<const N: usize, const M: usize>(
+    inputs: [[f32; 8]; N],
+    mut f: impl FnMut([f32; N]) -> [f32; M],
+) -> [[f32; 8]; M] {
+    let mut out = [[0.0; 8]; M];
     for k in 0..8 {
-        for (column, v) in c.iter_mut().zip(f(k)) {
+        for (column, v) in out.iter_mut().zip(f(inputs.map(|i| i[k]))) {
             column[k] = v;
         }
     }
-    c
+    out
 }
 
 /// An eight-lane [`Real`]: [`F8`] (portable), or `F8Avx` (`crate::lanes_avx`, inside the

@@ -128,16 +128,19 @@ impl Real for F8Avx {
         F8Avx(unsafe { _mm256_floor_ps(self.0) })
     }
     #[inline(always)]
-    fn lane(self, k: usize) -> f32 {
-        Lane8::to_array(self)[k]
-    }
-    #[inline(always)]
-    fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
-        Self::from_array(std::array::from_fn(f))
-    }
-    #[inline(always)]
-    fn from_fn_columns<const M: usize>(f: impl FnMut(usize) -> [f32; M]) -> [Self; M] {
-        crate::lanes::columns(f).map(Self::from_array)
+    fn map_lanes<const N: usize, const M: usize>(inputs: [Self; N], f: impl FnMut([f32; N]) -> [f32; M]) -> [Self; M] {
+        // Loops, not `array::map`: the conversions must compile into this (inlined)
+        // method, at the kernel's SIMD level.
+        let mut arrays = [[0.0; 8]; N];
+        for (a, x) in arrays.iter_mut().zip(inputs) {
+            *a = Lane8::to_array(x);
+        }
+        let columns = crate::lanes::map_columns(arrays, f);
+        let mut out = [Self::splat(0.0); M];
+        for (o, c) in out.iter_mut().zip(columns) {
+            *o = Self::from_array(c);
+        }
+        out
     }
     /// [`Real::offset_along`] as `f32` computes it: the integer step truncated towards
     /// zero, saturated, NaN giving 0 (as `as i32` does).

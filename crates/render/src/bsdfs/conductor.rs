@@ -114,6 +114,9 @@ impl<R: Real> LaneKernel<R> for ConductorLanes<R> {
     /// f(wo, wi) of the rough part, without the cosine.
     #[inline(always)]
     fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
+        if !R::any(self.rough) {
+            return V3::splat(0.0);
+        }
         let (m, ok) = Ggx::half_vector_lanes(wo, wi);
         let f = self.fresnel(wo.dot(m)).scale(self.ggx.reflection(wo, wi, m));
         V3::select(R::and(ok, self.rough), f, V3::splat(0.0))
@@ -122,6 +125,9 @@ impl<R: Real> LaneKernel<R> for ConductorLanes<R> {
     /// Density with which [`ConductorLanes::sample`] gives the rough direction `wi`.
     #[inline(always)]
     fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
+        if !R::any(self.rough) {
+            return R::splat(0.0);
+        }
         let (m, ok) = Ggx::half_vector_lanes(wo, wi);
         R::select(R::and(ok, self.rough), self.ggx.reflection_pdf(wo, m), R::splat(0.0))
     }
@@ -131,19 +137,30 @@ impl<R: Real> LaneKernel<R> for ConductorLanes<R> {
     #[inline(always)]
     fn sample(&self, wo: V3<R>, _u_lobe: R, u: (R, R)) -> LaneSample<R> {
         let (zero, one) = (R::splat(0.0), R::splat(1.0));
-        let (wi, m, ok) = self.ggx.sample_reflection_lanes(wo, u);
-        let weight = self.fresnel(wo.dot(m)).scale(self.ggx.g2(wo, wi) / self.ggx.g1(wo));
-        let pdf = self.ggx.reflection_pdf(wo, m);
-        let mirror = V3::new(-wo.x, -wo.y, wo.z);
-        let smooth = R::not(self.rough);
-        LaneSample {
-            wi: V3::select(smooth, mirror, wi),
-            weight: V3::select(smooth, self.fresnel(wo.z), weight),
-            pdf: R::select(smooth, one, pdf),
-            delta: smooth,
-            eta: one,
-            ok: R::and(wo.z.cmp_gt(zero), R::or(smooth, ok)),
-        }
+        let front = wo.z.cmp_gt(zero);
+        penumbra_core::choose_lanes!(
+            R,
+            self.rough,
+            {
+                let (wi, m, ok) = self.ggx.sample_reflection_lanes(wo, u);
+                LaneSample {
+                    wi,
+                    weight: self.fresnel(wo.dot(m)).scale(self.ggx.g2(wo, wi) / self.ggx.g1(wo)),
+                    pdf: self.ggx.reflection_pdf(wo, m),
+                    delta: zero.cmp_lt(zero),
+                    eta: one,
+                    ok: R::and(front, ok),
+                }
+            },
+            LaneSample {
+                wi: V3::new(-wo.x, -wo.y, wo.z),
+                weight: self.fresnel(wo.z),
+                pdf: one,
+                delta: zero.cmp_le(zero),
+                eta: one,
+                ok: front,
+            }
+        )
     }
 }
 

@@ -174,6 +174,9 @@ impl<R: Real> LaneKernel<R> for DielectricLanes<R> {
     /// Walter et al.'s eqs. 20 (reflection) and 21 (refraction); black where smooth.
     #[inline(always)]
     fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
+        if !R::any(self.rough) {
+            return V3::splat(0.0);
+        }
         let (m, etap, f, ok) = self.half_vector(wo, wi);
         let (cos_o, cos_i) = (wo.z, wi.z);
         let dg = self.ggx.d(m) * self.ggx.g2(wo, wi);
@@ -188,6 +191,9 @@ impl<R: Real> LaneKernel<R> for DielectricLanes<R> {
 
     #[inline(always)]
     fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
+        if !R::any(self.rough) {
+            return R::splat(0.0);
+        }
         let (density, reflection, f, ok) = self.lobe_density(wo, wi);
         let p = density * R::select(reflection, f, R::splat(1.0) - f);
         R::select(ok, p, R::splat(0.0))
@@ -195,19 +201,14 @@ impl<R: Real> LaneKernel<R> for DielectricLanes<R> {
 
     #[inline(always)]
     fn sample(&self, wo: V3<R>, u_lobe: R, u: (R, R)) -> LaneSample<R> {
-        let (smooth, rough) = (self.sample_smooth(wo, u_lobe), self.sample_rough(wo, u_lobe, u));
-        let r = self.rough;
-        LaneSample {
-            wi: V3::select(r, rough.wi, smooth.wi),
-            weight: V3::select(r, rough.weight, smooth.weight),
-            pdf: R::select(r, rough.pdf, smooth.pdf),
-            delta: R::select_mask(r, rough.delta, smooth.delta),
-            eta: R::select(r, rough.eta, smooth.eta),
-            ok: R::and(
-                R::not(wo.z.cmp_eq(R::splat(0.0))),
-                R::select_mask(r, rough.ok, smooth.ok),
-            ),
-        }
+        let mut s = penumbra_core::choose_lanes!(
+            R,
+            self.rough,
+            self.sample_rough(wo, u_lobe, u),
+            self.sample_smooth(wo, u_lobe)
+        );
+        s.ok = R::and(R::not(wo.z.cmp_eq(R::splat(0.0))), s.ok);
+        s
     }
 }
 

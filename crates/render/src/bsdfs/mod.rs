@@ -105,6 +105,20 @@ impl LaneSample<f32> {
     }
 }
 
+impl<R: Real> penumbra_core::lanes::Choose<R> for LaneSample<R> {
+    #[inline(always)]
+    fn choose(mask: R::Mask, a: Self, b: Self) -> Self {
+        LaneSample {
+            wi: V3::select(mask, a.wi, b.wi),
+            weight: V3::select(mask, a.weight, b.weight),
+            pdf: R::select(mask, a.pdf, b.pdf),
+            delta: R::select_mask(mask, a.delta, b.delta),
+            eta: R::select(mask, a.eta, b.eta),
+            ok: R::select_mask(mask, a.ok, b.ok),
+        }
+    }
+}
+
 /// A BSDF kind's arithmetic written over the lane type `R` (f32 for one path, eight lanes
 /// for eight): the non-delta value and density, and a sample, per lane, in the transport
 /// mode the lanes were made for.

@@ -103,13 +103,12 @@ impl Gather for PhongLanes<f32> {
     /// Eight Phong BSDFs of one transport mode (the first's).
     #[inline(always)]
     fn gather<L: Lane8>(one: &[Self; 8]) -> PhongLanes<L> {
-        let v3 = |f: fn(&Self) -> V3<f32>| V3::from_lanes(&one.each_ref().map(|b| f(b).into()));
         PhongLanes {
-            diffuse: v3(|b| b.diffuse),
-            specular: v3(|b| b.specular),
+            diffuse: V3::from_lanes(&one.map(|b| b.diffuse.into())),
+            specular: V3::from_lanes(&one.map(|b| b.specular.into())),
             exponent: L::from_array(one.map(|b| b.exponent)),
-            mirror: v3(|b| b.mirror),
-            transmission: v3(|b| b.transmission),
+            mirror: V3::from_lanes(&one.map(|b| b.mirror.into())),
+            transmission: V3::from_lanes(&one.map(|b| b.transmission.into())),
             eta: L::from_array(one.map(|b| b.eta)),
             radiance: one[0].radiance,
         }
@@ -157,18 +156,24 @@ impl<R: Real> PhongLanes<R> {
         let grazing = wo.z.cmp_eq(zero);
         let transmits = R::not(is_black(self.transmission));
         let eta = R::select(wo.z.cmp_gt(zero), self.eta, one / self.eta);
-        let f = fresnel_dielectric(wo.z.abs(), eta);
-        let interface = V3::select(transmits, self.transmission.scale(f), V3::splat(0.0));
+        // The interface's reflection and refraction, where some lane transmits.
+        let (interface, refracted, refracted_weight, refracts) = if R::any(transmits) {
+            let f = fresnel_dielectric(wo.z.abs(), eta);
+            let side = one.copysign(wo.z);
+            let (refracted, exists) = refract_lanes(wo, V3::new(zero * side, zero * side, side), eta);
+            let scale = if self.radiance { one / (eta * eta) } else { one };
+            let refracted_weight = self.transmission.scale((one - f) * scale);
+            let refracts = R::and(
+                R::and(R::not(grazing), transmits),
+                R::and(R::and(f.cmp_lt(one), exists), R::not(is_black(refracted_weight))),
+            );
+            let interface = V3::select(transmits, self.transmission.scale(f), V3::splat(0.0));
+            (interface, refracted, refracted_weight, refracts)
+        } else {
+            (V3::splat(0.0), wo, V3::splat(0.0), zero.cmp_lt(zero))
+        };
         let reflected_weight = self.mirror + interface;
         let reflects = R::and(R::not(grazing), R::not(is_black(reflected_weight)));
-        let side = one.copysign(wo.z);
-        let (refracted, exists) = refract_lanes(wo, V3::new(zero * side, zero * side, side), eta);
-        let scale = if self.radiance { one / (eta * eta) } else { one };
-        let refracted_weight = self.transmission.scale((one - f) * scale);
-        let refracts = R::and(
-            R::and(R::not(grazing), transmits),
-            R::and(R::and(f.cmp_lt(one), exists), R::not(is_black(refracted_weight))),
-        );
         let sum = R::splat(-0.0);
         let sum = R::select(reflects, sum + luminance(reflected_weight), sum);
         let sum = R::select(refracts, sum + luminance(refracted_weight), sum);

@@ -203,9 +203,12 @@ impl<R: Real> PlasticLanes<'_, R> {
     /// towards `cos`): the lane's table linearly interpolated, or 1 - F.
     #[inline(always)]
     fn transmittance(&self, cos: R) -> R {
-        let smooth = R::splat(1.0) - fresnel_dielectric(cos, self.eta);
-        let tabulated = cos.lanes_map(|k, c| self.tables[k].map_or(0.0, |t| interpolate(t, c)));
-        R::select(self.tabulated, tabulated, smooth)
+        penumbra_core::choose_lanes!(
+            R,
+            self.tabulated,
+            cos.lanes_map(|k, c| self.tables[k].map_or(0.0, |t| interpolate(t, c))),
+            R::splat(1.0) - fresnel_dielectric(cos, self.eta)
+        )
     }
 
     /// Probability of sampling the coating's reflection, seen from cosine `cos_o`.
@@ -231,11 +234,15 @@ impl<R: Real> LaneKernel<R> for PlasticLanes<'_, R> {
     fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
         let zero = R::splat(0.0);
         let f = self.diffuse_part(wo.z, wi.z);
-        let (m, ok) = Ggx::half_vector_lanes(wo, wi);
-        let glossy = self
-            .specular
-            .scale(fresnel_dielectric(wo.dot(m), self.eta) * self.ggx.reflection(wo, wi, m));
-        let f = V3::select(R::and(self.rough, ok), f + glossy, f);
+        let f = if R::any(self.rough) {
+            let (m, ok) = Ggx::half_vector_lanes(wo, wi);
+            let glossy = self
+                .specular
+                .scale(fresnel_dielectric(wo.dot(m), self.eta) * self.ggx.reflection(wo, wi, m));
+            V3::select(R::and(self.rough, ok), f + glossy, f)
+        } else {
+            f
+        };
         let front = R::not(R::or(wo.z.cmp_le(zero), wi.z.cmp_le(zero)));
         V3::select(front, f, V3::splat(0.0))
     }
@@ -245,8 +252,12 @@ impl<R: Real> LaneKernel<R> for PlasticLanes<'_, R> {
         let zero = R::splat(0.0);
         let ps = self.specular_probability(wo.z);
         let pdf = (R::splat(1.0) - ps) * (wi.z.max(zero) * R::splat(FRAC_1_PI));
-        let (m, ok) = Ggx::half_vector_lanes(wo, wi);
-        let pdf = R::select(R::and(self.rough, ok), pdf + ps * self.ggx.reflection_pdf(wo, m), pdf);
+        let pdf = if R::any(self.rough) {
+            let (m, ok) = Ggx::half_vector_lanes(wo, wi);
+            R::select(R::and(self.rough, ok), pdf + ps * self.ggx.reflection_pdf(wo, m), pdf)
+        } else {
+            pdf
+        };
         let front = R::not(R::or(wo.z.cmp_le(zero), wi.z.cmp_le(zero)));
         R::select(front, pdf, zero)
     }
@@ -258,8 +269,13 @@ impl<R: Real> LaneKernel<R> for PlasticLanes<'_, R> {
         let specular = u.cmp_lt(ps);
         let mirror = R::and(specular, R::not(self.rough));
         let glossy = R::and(specular, self.rough);
-        let (reflected, _, reflects) = self.ggx.sample_reflection_lanes(wo, u2);
-        let wi = V3::select(glossy, reflected, warp::cosine_hemisphere_lanes(u2.0, u2.1));
+        let cosine = warp::cosine_hemisphere_lanes(u2.0, u2.1);
+        let (wi, reflects) = if R::any(glossy) {
+            let (reflected, _, reflects) = self.ggx.sample_reflection_lanes(wo, u2);
+            (V3::select(glossy, reflected, cosine), reflects)
+        } else {
+            (cosine, zero.cmp_le(zero))
+        };
         let pdf = self.pdf(wo, wi);
         let weight = self.eval(wo, wi).scale(wi.z / pdf);
         let exists = R::and(

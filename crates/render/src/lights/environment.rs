@@ -244,8 +244,8 @@ impl<R: Real> LightKernel<R> for EnvironmentLanes<'_> {
             ),
             Some((_, distribution)) => {
                 // Each lane's cell: its point (x, y) in the map, radiance and 2D density.
-                let [x, y, r, g, b, density] = R::from_fn_columns(|k| {
-                    let ([x, y], _, texel) = distribution.sample_item([u.0.lane(k), u.1.lane(k)]);
+                let [x, y, r, g, b, density] = R::map_lanes([u.0, u.1], |u| {
+                    let ([x, y], _, texel) = distribution.sample_item(u);
                     let t = &texel.radiance;
                     [x, y, t.r, t.g, t.b, texel.density]
                 });

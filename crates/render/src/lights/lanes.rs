@@ -72,8 +72,10 @@ pub(crate) fn is_black<R: Real>(c: V3<R>) -> R::Mask {
 /// `m v` per lane, summed as glam's `Mat3 * Vec3` sums it: (x_axis v.x + y_axis v.y) + z_axis v.z.
 #[inline(always)]
 pub(crate) fn mat3_mul<R: Real>(m: &Mat3, v: V3<R>) -> V3<R> {
-    let column = |a: glam::Vec3| V3::new(R::splat(a.x), R::splat(a.y), R::splat(a.z));
-    column(m.x_axis).scale(v.x) + column(m.y_axis).scale(v.y) + column(m.z_axis).scale(v.z)
+    let (x, y, z) = (m.x_axis, m.y_axis, m.z_axis);
+    V3::new(R::splat(x.x), R::splat(x.y), R::splat(x.z)).scale(v.x)
+        + V3::new(R::splat(y.x), R::splat(y.y), R::splat(y.z)).scale(v.y)
+        + V3::new(R::splat(z.x), R::splat(z.y), R::splat(z.z)).scale(v.z)
 }
 
 /// Up to eight light samples of one kind's lights `one` (lanes past `n` repeat the last)
