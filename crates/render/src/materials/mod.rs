@@ -24,7 +24,9 @@ pub use plastic::PlasticMaterial;
 use crate::bsdfs::microfacet::Ggx;
 use crate::bsdfs::{Blend, Bsdf, BsdfKind};
 use crate::Texture;
-use glam::{Vec2, Vec3};
+use glam::Vec2;
+use penumbra_core::frame::Basis;
+use penumbra_core::lanes::{Real, V3};
 use penumbra_core::{Frame, Rgb};
 use penumbra_geometry::SurfaceHit;
 
@@ -103,15 +105,32 @@ impl Material {
     /// a normal map gives (ignored where the texel points below the surface). Only the
     /// outermost material's map counts: a blend's parts keep the surface's normal.
     pub fn shading_frame(&self, s: &SurfaceHit) -> Frame {
-        let frame = Frame::from_normal_tangent(s.ns, s.dpdu);
+        let b = self.shading_frame_lanes(s.ns.into(), s.dpdu.into(), s.uv.x, s.uv.y);
+        Frame {
+            s: b.s.into(),
+            t: b.t.into(),
+            n: b.n.into(),
+        }
+    }
+
+    /// [`Material::shading_frame`] for lanes of any [`Real`] type whose surfaces share this
+    /// material: shading normal `ns`, tangent `dpdu`, texture coordinates (`u`, `v`).
+    #[inline(always)]
+    pub fn shading_frame_lanes<R: Real>(&self, ns: V3<R>, dpdu: V3<R>, u: R, v: R) -> Basis<R> {
+        let frame = Basis::from_normal_tangent(ns, dpdu);
         let Material::NormalMapped { map, .. } = self else {
             return frame;
         };
-        let c = map.eval(s.uv);
-        let local = Vec3::new(2.0 * c.r - 1.0, 2.0 * c.g - 1.0, 2.0 * c.b - 1.0);
-        match frame.to_world(local).try_normalize() {
-            Some(n) if local.z > 0.0 => Frame::from_normal_tangent(n, frame.s),
-            _ => frame,
+        let (one, two) = (R::splat(1.0), R::splat(2.0));
+        let c = map.eval_lanes(u, v);
+        let local = V3::new(two * c.x - one, two * c.y - one, two * c.z - one);
+        let (n, ok) = frame.to_world(local).try_normalize();
+        let mapped = Basis::from_normal_tangent(n, frame.s);
+        let keep = R::and(ok, local.z.cmp_gt(R::splat(0.0)));
+        Basis {
+            s: V3::select(keep, mapped.s, frame.s),
+            t: V3::select(keep, mapped.t, frame.t),
+            n: V3::select(keep, mapped.n, frame.n),
         }
     }
 
@@ -150,6 +169,7 @@ impl Material {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     fn surface() -> SurfaceHit {
         SurfaceHit {
@@ -190,5 +210,68 @@ mod tests {
         assert_eq!(f.n, Vec3::Z);
         // The BSDF is the inner material's.
         assert!(matches!(mapped(tilted).bsdf(Vec2::ZERO).kind, BsdfKind::Diffuse(_)));
+    }
+
+    /// Eight surfaces of one material in lanes get, lane by lane, the bits of the one-lane
+    /// frame: plain, and normal-mapped by an image whose texels point every way (some
+    /// below the surface, some nowhere: (0.5, 0.5, 0.5) encodes the zero vector).
+    #[test]
+    fn lanes_give_each_lane_the_scalar_frame() {
+        use crate::texture::{ImageTexture, TextureImage};
+        use penumbra_core::lanes::{Lane8, F8};
+        let mut rng = penumbra_core::Pcg32::new(21, 4);
+        let pixels = (0..64)
+            .map(|i| match i % 7 {
+                0 => Rgb::splat(0.5),
+                _ => Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()),
+            })
+            .collect();
+        let image = TextureImage {
+            width: 8,
+            height: 8,
+            pixels,
+            wrap: Default::default(),
+        };
+        let plain = Material::Diffuse(DiffuseMaterial::default());
+        let mapped = Material::NormalMapped {
+            map: Texture::Image(ImageTexture {
+                image: std::sync::Arc::new(image),
+                scale: 1.0,
+            }),
+            inner: Box::new(plain.clone()),
+        };
+        let dir = |rng: &mut penumbra_core::Pcg32| {
+            penumbra_core::warp::uniform_sphere(Vec2::new(rng.next_f32(), rng.next_f32()))
+        };
+        for material in [&plain, &mapped] {
+            for _ in 0..2_000 {
+                let ns: [Vec3; 8] = std::array::from_fn(|_| dir(&mut rng));
+                // Some tangents along the normal (the frame's fallback).
+                let dpdu: [Vec3; 8] = std::array::from_fn(|k| if k == 5 { ns[k] } else { dir(&mut rng) * 2.0 });
+                let uv: [Vec2; 8] = std::array::from_fn(|_| Vec2::new(rng.next_f32(), rng.next_f32()) * 3.0);
+                let b = material.shading_frame_lanes(
+                    V3::<F8>::from_lanes(&ns),
+                    V3::from_lanes(&dpdu),
+                    F8::from_array(uv.map(|p| p.x)),
+                    F8::from_array(uv.map(|p| p.y)),
+                );
+                let (s, t, n) = (b.s.to_lanes(), b.t.to_lanes(), b.n.to_lanes());
+                for k in 0..8 {
+                    let surface = SurfaceHit {
+                        ns: ns[k],
+                        dpdu: dpdu[k],
+                        uv: uv[k],
+                        ..surface()
+                    };
+                    let f = material.shading_frame(&surface);
+                    let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+                    assert_eq!(
+                        [bits(s[k]), bits(t[k]), bits(n[k])],
+                        [bits(f.s), bits(f.t), bits(f.n)],
+                        "lane {k}"
+                    );
+                }
+            }
+        }
     }
 }
