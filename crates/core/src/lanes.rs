@@ -505,6 +505,19 @@ impl From<V3<f32>> for glam::Vec3 {
 }
 
 impl<R: Real> V3<R> {
+    /// Per lane: whether all three components are zero (for a colour, `Rgb::is_black`).
+    #[inline(always)]
+    pub fn is_black(self) -> R::Mask {
+        let zero = R::splat(0.0);
+        R::and(R::and(self.x.cmp_eq(zero), self.y.cmp_eq(zero)), self.z.cmp_eq(zero))
+    }
+
+    /// A colour's luminance per lane, as `Rgb::luminance` sums it.
+    #[inline(always)]
+    pub fn luminance(self) -> R {
+        R::splat(0.2126) * self.x + R::splat(0.7152) * self.y + R::splat(0.0722) * self.z
+    }
+
     /// A colour in every lane.
     #[inline(always)]
     pub fn splat_rgb(c: crate::Rgb) -> Self {

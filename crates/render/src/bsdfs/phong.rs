@@ -57,19 +57,6 @@ struct DeltaRays<R: Real> {
     luminance: R,
 }
 
-/// Per lane: whether every channel is zero (as `Rgb::is_black`).
-#[inline(always)]
-fn is_black<R: Real>(c: V3<R>) -> R::Mask {
-    let zero = R::splat(0.0);
-    R::and(c.x.cmp_eq(zero), R::and(c.y.cmp_eq(zero), c.z.cmp_eq(zero)))
-}
-
-/// `Rgb::luminance` per lane.
-#[inline(always)]
-fn luminance<R: Real>(c: V3<R>) -> R {
-    R::splat(0.2126) * c.x + R::splat(0.7152) * c.y + R::splat(0.0722) * c.z
-}
-
 /// Mirror reflection about the normal, in the local frame.
 #[inline(always)]
 fn reflect_z<R: Real>(w: V3<R>) -> V3<R> {
@@ -120,13 +107,13 @@ impl<R: Real> PhongLanes<R> {
     #[inline(always)]
     fn smooth_albedo(&self) -> R {
         let zero = R::splat(0.0);
-        luminance(self.diffuse).max(zero) + luminance(self.specular).max(zero)
+        self.diffuse.luminance().max(zero) + self.specular.luminance().max(zero)
     }
 
     /// The share of the cosine hemisphere in the smooth part's sampling.
     #[inline(always)]
     fn diffuse_share(&self, smooth: R) -> R {
-        luminance(self.diffuse).max(R::splat(0.0)) / smooth
+        self.diffuse.luminance().max(R::splat(0.0)) / smooth
     }
 
     /// Density of the smooth part's sampling, both directions above.
@@ -154,7 +141,7 @@ impl<R: Real> PhongLanes<R> {
     fn delta_rays(&self, wo: V3<R>) -> DeltaRays<R> {
         let (zero, one) = (R::splat(0.0), R::splat(1.0));
         let grazing = wo.z.cmp_eq(zero);
-        let transmits = R::not(is_black(self.transmission));
+        let transmits = R::not(self.transmission.is_black());
         let eta = R::select(wo.z.cmp_gt(zero), self.eta, one / self.eta);
         // The interface's reflection and refraction, where some lane transmits.
         let (interface, refracted, refracted_weight, refracts) = if R::any(transmits) {
@@ -165,7 +152,7 @@ impl<R: Real> PhongLanes<R> {
             let refracted_weight = self.transmission.scale((one - f) * scale);
             let refracts = R::and(
                 R::and(R::not(grazing), transmits),
-                R::and(R::and(f.cmp_lt(one), exists), R::not(is_black(refracted_weight))),
+                R::and(R::and(f.cmp_lt(one), exists), R::not(refracted_weight.is_black())),
             );
             let interface = V3::select(transmits, self.transmission.scale(f), V3::splat(0.0));
             (interface, refracted, refracted_weight, refracts)
@@ -173,10 +160,10 @@ impl<R: Real> PhongLanes<R> {
             (V3::splat(0.0), wo, V3::splat(0.0), zero.cmp_lt(zero))
         };
         let reflected_weight = self.mirror + interface;
-        let reflects = R::and(R::not(grazing), R::not(is_black(reflected_weight)));
+        let reflects = R::and(R::not(grazing), R::not(reflected_weight.is_black()));
         let sum = R::splat(-0.0);
-        let sum = R::select(reflects, sum + luminance(reflected_weight), sum);
-        let sum = R::select(refracts, sum + luminance(refracted_weight), sum);
+        let sum = R::select(reflects, sum + reflected_weight.luminance(), sum);
+        let sum = R::select(refracts, sum + refracted_weight.luminance(), sum);
         DeltaRays {
             reflected: reflect_z(wo),
             reflected_weight,
@@ -198,7 +185,7 @@ impl<R: Real> LaneKernel<R> for PhongLanes<R> {
         let zero = R::splat(0.0);
         let diffuse = self.diffuse.scale(R::splat(1.0 / PI));
         let cos_alpha = reflect_z(upper(wi)).dot(upper(wo));
-        let glossy = R::and(R::not(is_black(self.specular)), cos_alpha.cmp_gt(zero));
+        let glossy = R::and(R::not(self.specular.is_black()), cos_alpha.cmp_gt(zero));
         let f = if R::any(glossy) {
             let norm = (self.exponent + R::splat(2.0)) / R::splat(2.0 * PI);
             let lobe = self.specular.scale(norm * cos_alpha.powf(self.exponent));
@@ -251,7 +238,7 @@ impl<R: Real> LaneKernel<R> for PhongLanes<R> {
 
         // A delta ray.
         let (reflected_luminance, refracted_luminance) =
-            (luminance(rays.reflected_weight), luminance(rays.refracted_weight));
+            (rays.reflected_weight.luminance(), rays.refracted_weight.luminance());
         let past = x - smooth - reflected_luminance;
         let reflect = R::and(rays.reflects, R::or(past.cmp_lt(zero), R::not(rays.refracts)));
         let chosen = R::or(reflect, rays.refracts);

@@ -122,13 +122,6 @@ impl<R: Real> Shading<R> {
     }
 }
 
-/// Where all three channels are zero ([`penumbra_core::Rgb::is_black`]).
-#[inline(always)]
-fn is_black<R: Real>(c: V3<R>) -> R::Mask {
-    let zero = R::splat(0.0);
-    R::and(R::and(c.x.cmp_eq(zero), c.y.cmp_eq(zero)), c.z.cmp_eq(zero))
-}
-
 /// Where every component is finite.
 #[inline(always)]
 fn is_finite<R: Real>(v: V3<R>) -> R::Mask {
@@ -190,8 +183,8 @@ fn light_sample<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, light: &TriangleLig
     let value = f_cos.mul_each(li).scale(weight / (light.p_pick * pdf * one));
 
     let ok = R::and(
-        R::and(R::and(defined, sane), R::and(R::not(is_black(li)), is_finite(wi))),
-        R::and(sh.agrees(wi, l), R::not(is_black(f_cos))),
+        R::and(R::and(defined, sane), R::and(R::not(li.is_black()), is_finite(wi))),
+        R::and(sh.agrees(wi, l), R::not(f_cos.is_black())),
     );
     LightOut {
         by_area,

@@ -4,7 +4,7 @@
 //! Native format: `type = "directional"`, `direction` (the way the light travels,
 //! default `[0, -1, 0]`), `irradiance` (colour, default `[1, 1, 1]`).
 
-use super::lanes::{is_black, LaneLightSample, LightGather, LightKernel};
+use super::lanes::{LaneLightSample, LightGather, LightKernel};
 use super::{
     delta_light_answers, disk_origin, disk_pdf, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere,
 };
@@ -45,7 +45,7 @@ impl<R: Real> LightKernel<R> for DirectionalLanes<R> {
             li: self.irradiance,
             dist: R::splat(f32::INFINITY),
             pdf: R::splat(1.0),
-            ok: R::not(is_black(self.irradiance)),
+            ok: R::not(self.irradiance.is_black()),
         }
     }
 }

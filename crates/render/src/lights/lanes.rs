@@ -58,15 +58,8 @@ pub(crate) fn delta_sample_lanes<R: Real>(p: V3<R>, position: V3<R>, intensity: 
         li: intensity.scale(R::splat(1.0) / dist2),
         dist,
         pdf: R::splat(1.0),
-        ok: R::and(R::not(dist2.cmp_eq(zero)), R::not(is_black(intensity))),
+        ok: R::and(R::not(dist2.cmp_eq(zero)), R::not(intensity.is_black())),
     }
-}
-
-/// Per lane: whether every channel is zero (as `Rgb::is_black`).
-#[inline(always)]
-pub(crate) fn is_black<R: Real>(c: V3<R>) -> R::Mask {
-    let zero = R::splat(0.0);
-    R::and(c.x.cmp_eq(zero), R::and(c.y.cmp_eq(zero), c.z.cmp_eq(zero)))
 }
 
 /// `m v` per lane, summed as glam's `Mat3 * Vec3` sums it: (x_axis v.x + y_axis v.y) + z_axis v.z.
