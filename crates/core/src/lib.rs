@@ -18,6 +18,7 @@ pub mod simd;
 pub mod spherical;
 pub mod transform;
 pub mod trig;
+mod v3;
 pub mod warp;
 
 pub use bounds::Aabb;
