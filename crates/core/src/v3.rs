@@ -130,6 +130,12 @@ impl<R: Real> V3<R> {
         R::splat(0.2126) * self.x + R::splat(0.7152) * self.y + R::splat(0.0722) * self.z
     }
 
+    /// A vector in every lane.
+    #[inline(always)]
+    pub fn splat_vec(v: glam::Vec3) -> Self {
+        V3::new(R::splat(v.x), R::splat(v.y), R::splat(v.z))
+    }
+
     /// A colour in every lane.
     #[inline(always)]
     pub fn splat_rgb(c: crate::Rgb) -> Self {

@@ -151,19 +151,35 @@ impl Emitter {
 
     /// A point uniform by area, and its unit normal; density 1 / area per unit area.
     pub fn sample_area(&self, u: Vec2) -> (Vec3, Vec3) {
+        let (point, normal) = self.sample_area_lanes(u.x, u.y);
+        (point.into(), normal.into())
+    }
+
+    /// [`Emitter::sample_area`] per lane of any [`Real`] type, for lanes sharing this
+    /// emitter (pbrt-v4 section 6.2 for each shape).
+    #[inline(always)]
+    pub fn sample_area_lanes<R: Real>(&self, ux: R, uy: R) -> (V3<R>, V3<R>) {
+        let normal = V3::splat_vec(self.normal);
         match &self.shape {
-            EmitterShape::Quad { corner, e1, e2 } => (*corner + u.x * *e1 + u.y * *e2, self.normal),
+            EmitterShape::Quad { corner, e1, e2 } => (
+                V3::splat_vec(*corner) + V3::splat_vec(*e1).scale(ux) + V3::splat_vec(*e2).scale(uy),
+                normal,
+            ),
             EmitterShape::Disk { center, a1, a2 } => {
-                let d = warp::uniform_disk(u);
-                (*center + d.x * *a1 + d.y * *a2, self.normal)
+                let (x, y) = warp::uniform_disk_lanes(ux, uy);
+                (
+                    V3::splat_vec(*center) + V3::splat_vec(*a1).scale(x) + V3::splat_vec(*a2).scale(y),
+                    normal,
+                )
             }
             EmitterShape::Triangle { v } => {
-                let (b1, b2) = warp::uniform_triangle_lanes(u.x, u.y);
-                (triangle_point(v.map(V3::from), b1, b2).into(), self.normal)
+                let (b1, b2) = warp::uniform_triangle_lanes(ux, uy);
+                let corners = [V3::splat_vec(v[0]), V3::splat_vec(v[1]), V3::splat_vec(v[2])];
+                (triangle_point(corners, b1, b2), normal)
             }
             EmitterShape::Sphere { center, radius } => {
-                let n = warp::uniform_sphere(u);
-                (*center + *radius * n, n)
+                let n = warp::uniform_sphere_lanes(ux, uy);
+                (V3::splat_vec(*center) + n.scale(R::splat(*radius)), n)
             }
         }
     }
@@ -177,9 +193,21 @@ impl Emitter {
 
     /// A point uniform by area, with the solid-angle density of its direction from `p`.
     pub fn sample_uniform(&self, p: Vec3, u: Vec2) -> Option<EmitterSample> {
-        let (point, normal) = self.sample_area(u);
-        let pdf = self.area_pdf_to_solid_angle(p, point, normal)?;
-        Some(EmitterSample { point, normal, pdf })
+        let (point, normal, pdf, ok) = self.sample_uniform_lanes(p.into(), u.x, u.y);
+        ok.then(|| EmitterSample {
+            point: point.into(),
+            normal: normal.into(),
+            pdf,
+        })
+    }
+
+    /// [`Emitter::sample_uniform`] per lane of any [`Real`] type, for lanes sharing this
+    /// emitter: the point, its normal, the density, and where the density is defined.
+    #[inline(always)]
+    pub fn sample_uniform_lanes<R: Real>(&self, p: V3<R>, ux: R, uy: R) -> (V3<R>, V3<R>, R, R::Mask) {
+        let (point, normal) = self.sample_area_lanes(ux, uy);
+        let (pdf, ok) = area_to_solid_angle(p, point, normal, R::splat(self.area));
+        (point, normal, pdf, ok)
     }
 
     /// For a sphere seen from outside (not from its surface): the cosine of the half-angle of

@@ -240,3 +240,46 @@ fn triangle_sampling_in_eight_lanes_equals_the_scalar_floats() {
         "cases {invalid} invalid, {valid} valid"
     );
 }
+
+/// Every shape's sampling by area in eight lanes (`Emitter::sample_uniform_lanes`) gives,
+/// lane by lane, the bits of the one-lane `sample_uniform`, including shading points on
+/// the emitter (no density there).
+#[test]
+fn area_sampling_of_every_shape_in_eight_lanes_equals_the_scalar_floats() {
+    use penumbra_core::lanes::{Lane8, F8, V3};
+    let mut rng = penumbra_core::Pcg32::new(23, 3);
+    for e in emitters() {
+        let (mut valid, mut invalid) = (0, 0);
+        for _ in 0..2_000 {
+            let u: [Vec2; 8] = std::array::from_fn(|_| Vec2::new(rng.next_f32(), rng.next_f32()));
+            let mut p: [Vec3; 8] = std::array::from_fn(|_| {
+                Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 4.0 - Vec3::splat(2.0)
+            });
+            p[2] = e.sample_area(u[2]).0;
+            let (point, normal, pdf, ok) = e.sample_uniform_lanes(
+                V3::from_lanes(&p),
+                F8::from_array(u.map(|u| u.x)),
+                F8::from_array(u.map(|u| u.y)),
+            );
+            let (point, normal, pdf, ok) = (point.to_lanes(), normal.to_lanes(), pdf.to_array(), F8::bits(ok));
+            let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+            for k in 0..8 {
+                let one = e.sample_uniform(p[k], u[k]);
+                assert_eq!(ok >> k & 1 != 0, one.is_some(), "{:?} lane {k}", e.shape());
+                let Some(one) = one else {
+                    invalid += 1;
+                    continue;
+                };
+                valid += 1;
+                assert_eq!(bits(point[k]), bits(one.point), "{:?} lane {k}: point", e.shape());
+                assert_eq!(bits(normal[k]), bits(one.normal), "{:?} lane {k}: normal", e.shape());
+                assert_eq!(pdf[k].to_bits(), one.pdf.to_bits(), "{:?} lane {k}: pdf", e.shape());
+            }
+        }
+        assert!(
+            valid > 10_000 && invalid >= 2_000,
+            "{:?}: {valid} valid, {invalid} invalid",
+            e.shape()
+        );
+    }
+}
