@@ -101,21 +101,20 @@ pub trait Real:
     /// The coordinate `self` of a surface point moved along the normal component `n` by a
     /// few units in the last place ([`crate::ray::offset_origin`], one coordinate).
     fn offset_along(self, n: Self) -> Self;
-    /// Lane `k` of the result is `f(k, lane k of self)`: a scalar step per lane, for what
-    /// lanes cannot do together (a lookup in a table of the lane's own).
-    fn lanes_map(self, f: impl Fn(usize, f32) -> f32) -> Self;
-    /// How many lanes the type has.
-    const LANES: usize;
     /// The largest integer not above each lane (exact, as `f32::floor`).
     fn floor(self) -> Self;
-    /// A scalar step per lane with `N` inputs and `M` results (a table walk, a gather):
-    /// lane `k` of the results is `f(lane k of each input)`. The closure sees only `f32`s,
-    /// so it needs no SIMD level of its own.
-    fn map_lanes<const N: usize, const M: usize>(inputs: [Self; N], f: impl FnMut([f32; N]) -> [f32; M]) -> [Self; M];
+    /// A scalar step per lane with `N` inputs and `M` results, for what lanes cannot do
+    /// together (a table walk, a gather, a lookup in a table of the lane's own): lane `k`
+    /// of the results is `f(k, lane k of each input)`. The closure sees only `f32`s, so it
+    /// needs no SIMD level of its own.
+    fn map_lanes<const N: usize, const M: usize>(
+        inputs: [Self; N],
+        f: impl FnMut(usize, [f32; N]) -> [f32; M],
+    ) -> [Self; M];
     /// `self` to the power `e`, lane by lane as `f32::powf` computes it.
     #[inline(always)]
     fn powf(self, e: Self) -> Self {
-        let [p] = Self::map_lanes([self, e], |[x, e]| [x.powf(e)]);
+        let [p] = Self::map_lanes([self, e], |_, [x, e]| [x.powf(e)]);
         p
     }
     /// Per lane: whether the value is finite (neither infinite nor NaN).
@@ -200,20 +199,15 @@ impl Real for f32 {
         }
     }
     #[inline(always)]
-    fn lanes_map(self, f: impl Fn(usize, f32) -> f32) -> Self {
-        f(0, self)
-    }
-    const LANES: usize = 1;
-    #[inline(always)]
     fn floor(self) -> Self {
         f32::floor(self)
     }
     #[inline(always)]
     fn map_lanes<const N: usize, const M: usize>(
         inputs: [Self; N],
-        mut f: impl FnMut([f32; N]) -> [f32; M],
+        mut f: impl FnMut(usize, [f32; N]) -> [f32; M],
     ) -> [Self; M] {
-        f(inputs)
+        f(0, inputs)
     }
     #[inline(always)]
     fn offset_along(self, n: Self) -> Self {
@@ -283,17 +277,14 @@ impl Real for F8 {
         F8(mask.blend(t.0, f.0))
     }
     #[inline(always)]
-    fn lanes_map(self, f: impl Fn(usize, f32) -> f32) -> Self {
-        let a = self.to_array();
-        F8::from(std::array::from_fn::<f32, 8, _>(|k| f(k, a[k])))
-    }
-    const LANES: usize = 8;
-    #[inline(always)]
     fn floor(self) -> Self {
         F8(self.0.floor())
     }
     #[inline(always)]
-    fn map_lanes<const N: usize, const M: usize>(inputs: [Self; N], f: impl FnMut([f32; N]) -> [f32; M]) -> [Self; M] {
+    fn map_lanes<const N: usize, const M: usize>(
+        inputs: [Self; N],
+        f: impl FnMut(usize, [f32; N]) -> [f32; M],
+    ) -> [Self; M] {
         map_columns(inputs.map(F8::to_array), f).map(F8::from)
     }
     #[inline(always)]
@@ -353,11 +344,11 @@ macro_rules! choose_lanes {
 #[inline(always)]
 pub(crate) fn map_columns<const N: usize, const M: usize>(
     inputs: [[f32; 8]; N],
-    mut f: impl FnMut([f32; N]) -> [f32; M],
+    mut f: impl FnMut(usize, [f32; N]) -> [f32; M],
 ) -> [[f32; 8]; M] {
     let mut out = [[0.0; 8]; M];
     for k in 0..8 {
-        for (column, v) in out.iter_mut().zip(f(inputs.map(|i| i[k]))) {
+        for (column, v) in out.iter_mut().zip(f(k, inputs.map(|i| i[k]))) {
             column[k] = v;
         }
     }

@@ -117,18 +117,15 @@ impl Real for F8Avx {
         F8Avx(unsafe { _mm256_blendv_ps(f.0, t.0, mask) })
     }
     #[inline(always)]
-    fn lanes_map(self, f: impl Fn(usize, f32) -> f32) -> Self {
-        let a = Lane8::to_array(self);
-        Self::from_array(std::array::from_fn(|k| f(k, a[k])))
-    }
-    const LANES: usize = 8;
-    #[inline(always)]
     fn floor(self) -> Self {
         // SAFETY: see the module's note.
         F8Avx(unsafe { _mm256_floor_ps(self.0) })
     }
     #[inline(always)]
-    fn map_lanes<const N: usize, const M: usize>(inputs: [Self; N], f: impl FnMut([f32; N]) -> [f32; M]) -> [Self; M] {
+    fn map_lanes<const N: usize, const M: usize>(
+        inputs: [Self; N],
+        f: impl FnMut(usize, [f32; N]) -> [f32; M],
+    ) -> [Self; M] {
         // Loops, not `array::map`: the conversions must compile into this (inlined)
         // method, at the kernel's SIMD level.
         let mut arrays = [[0.0; 8]; N];

@@ -206,7 +206,7 @@ impl<R: Real> PlasticLanes<'_, R> {
         penumbra_core::choose_lanes!(
             R,
             self.tabulated,
-            cos.lanes_map(|k, c| self.tables[k].map_or(0.0, |t| interpolate(t, c))),
+            R::map_lanes([cos], |k, [c]| [self.tables[k].map_or(0.0, |t| interpolate(t, c))])[0],
             R::splat(1.0) - fresnel_dielectric(cos, self.eta)
         )
     }

@@ -8,10 +8,11 @@
 //! Each pixel is constant over its cell (no filtering), so the sampling density is exactly
 //! proportional to the luminance it samples.
 
-use super::lanes::{mat3_mul, LaneLightSample, LightGather, LightKernel};
+use super::lanes::{LaneLightSample, LightGather, LightKernel};
 use super::{disk_origin, disk_pdf, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere};
 use crate::texture::TextureImage;
 use glam::{Mat3, Vec2, Vec3};
+use penumbra_core::frame::Basis;
 use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::{trig, warp, Distribution2D, Ray, Rgb};
 use std::f32::consts::PI;
@@ -153,7 +154,14 @@ impl Environment {
         let (sin_phi, cos_phi) = trig::sin_cos_turns(u);
         let (sin_theta, cos_theta) = trig::sin_cos_turns(R::splat(0.5) * v);
         let local = V3::new(sin_phi * sin_theta, cos_theta, -cos_phi * sin_theta);
-        (mat3_mul(&self.to_world, local), sin_theta)
+        // `to_world * local` as glam sums it: (x_axis x + y_axis y) + z_axis z.
+        let m = &self.to_world;
+        let columns = Basis {
+            s: V3::splat_vec(m.x_axis),
+            t: V3::splat_vec(m.y_axis),
+            n: V3::splat_vec(m.z_axis),
+        };
+        (columns.to_world(local), sin_theta)
     }
 
     /// The one-lane instance of the light-sampling arithmetic.
@@ -244,7 +252,7 @@ impl<R: Real> LightKernel<R> for EnvironmentLanes<'_> {
             ),
             Some((_, distribution)) => {
                 // Each lane's cell: its point (x, y) in the map, radiance and 2D density.
-                let [x, y, r, g, b, density] = R::map_lanes([u.0, u.1], |u| {
+                let [x, y, r, g, b, density] = R::map_lanes([u.0, u.1], |_, u| {
                     let ([x, y], _, texel) = distribution.sample_item(u);
                     let t = &texel.radiance;
                     [x, y, t.r, t.g, t.b, texel.density]

@@ -5,7 +5,6 @@
 //! points) make an eight-lane kernel by [`LightGather`].
 
 use super::LightSample;
-use glam::Mat3;
 use penumbra_core::lanes::{Lane8, Real, V3};
 
 /// [`LightSample`] in lanes of any [`Real`] type, with the lanes where a sample exists
@@ -60,15 +59,6 @@ pub(crate) fn delta_sample_lanes<R: Real>(p: V3<R>, position: V3<R>, intensity: 
         pdf: R::splat(1.0),
         ok: R::and(R::not(dist2.cmp_eq(zero)), R::not(intensity.is_black())),
     }
-}
-
-/// `m v` per lane, summed as glam's `Mat3 * Vec3` sums it: (x_axis v.x + y_axis v.y) + z_axis v.z.
-#[inline(always)]
-pub(crate) fn mat3_mul<R: Real>(m: &Mat3, v: V3<R>) -> V3<R> {
-    let (x, y, z) = (m.x_axis, m.y_axis, m.z_axis);
-    V3::new(R::splat(x.x), R::splat(x.y), R::splat(x.z)).scale(v.x)
-        + V3::new(R::splat(y.x), R::splat(y.y), R::splat(y.z)).scale(v.y)
-        + V3::new(R::splat(z.x), R::splat(z.y), R::splat(z.z)).scale(v.z)
 }
 
 /// Up to eight light samples of one kind's lights `one` (lanes past `n` repeat the last)

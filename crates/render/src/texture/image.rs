@@ -71,7 +71,7 @@ impl TextureImage {
         // none, by corner and channel. Cells beyond 2^40 pixels are as far as
         // float coordinates resolve anyway (and keep `i + 1` from overflowing).
         let far = (1i64 << 40) as f32;
-        let [r00, g00, b00, r10, g10, b10, r01, g01, b01, r11, g11, b11] = R::map_lanes([x0, y0], |[x0, y0]| {
+        let [r00, g00, b00, r10, g10, b10, r01, g01, b01, r11, g11, b11] = R::map_lanes([x0, y0], |_, [x0, y0]| {
             let (i, j) = (x0.clamp(-far, far) as i64, y0.clamp(-far, far) as i64);
             let column = |i| self.wrap[0].pixel(i, w);
             let row = |j| self.wrap[1].pixel(j, h).map(|j| j * w);
