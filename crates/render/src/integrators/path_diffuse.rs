@@ -192,10 +192,13 @@ fn lane_kernel<L: Lane8>(
     u_light: ([f32; 8], [f32; 8]),
     u_dir: ([f32; 8], [f32; 8]),
 ) -> LaneResults {
+    // No closure makes lane values here: `array::map` and the like are not inlined, and
+    // a closure compiled apart from this kernel lacks its SIMD level (its intrinsics
+    // become calls).
     let uv = |v: usize| (c.f8::<L>(Columns::UV + 2 * v), c.f8::<L>(Columns::UV + 2 * v + 1));
     let surface = triangle_surface_lanes(&TriangleLanes {
-        p: [0, 1, 2].map(|v| c.v3(Columns::P + 3 * v)),
-        n: [0, 1, 2].map(|v| c.v3(Columns::N + 3 * v)),
+        p: [c.v3(Columns::P), c.v3(Columns::P + 3), c.v3(Columns::P + 6)],
+        n: [c.v3(Columns::N), c.v3(Columns::N + 3), c.v3(Columns::N + 6)],
         has_normals: L::mask_of(f.has_normals),
         t: [uv(0), uv(1), uv(2)],
         has_uvs: L::mask_of(f.has_uvs),
