@@ -116,7 +116,13 @@ impl PrimitiveSet for MeshTriangles {
     }
     #[inline(always)]
     fn occluded_run(&self, first: usize, count: usize, _ray: &Ray, data: &TriangleRay, t_max: f32) -> bool {
-        Self::packets_of(first, count).any(|(packet, lanes)| self.packets[packet].any(data, t_max, lanes))
+        // A loop, not `Iterator::any`: its `try_fold` was not inlined into the traversal.
+        for (packet, lanes) in Self::packets_of(first, count) {
+            if self.packets[packet].any(data, t_max, lanes) {
+                return true;
+            }
+        }
+        false
     }
     fn group(&self) -> usize {
         4
