@@ -19,3 +19,113 @@ pub(super) fn sample_2d(key: &Key) -> Vec2 {
 fn bits(key: &Key) -> u64 {
     mix64(key.pattern ^ key.index_hash)
 }
+
+/// The numbers of eight samplers at once: lane `k` is what [`sample_2d`] (with `two`, else
+/// [`sample_1d`] in `x` and 0 in `y`) gives for dimension `dims[k] + offset` of the pixel
+/// hashed `pixel[k]`, sample index hashed `index[k]`. The same integer operations per lane,
+/// written so that the compiler turns the loop into SIMD code at the CPU's level (64-bit
+/// lane products where AVX-512 has them), so every level gives the same bits.
+#[inline]
+pub(super) fn sample_lanes(
+    pixel: &[u64; 8],
+    index: &[u64; 8],
+    dims: &[u32; 8],
+    offset: u32,
+    two: bool,
+) -> ([f32; 8], [f32; 8]) {
+    crate::at_level!(
+        avx512: lanes_avx512(pixel, index, dims, offset, two),
+        avx2: lanes_avx2(pixel, index, dims, offset, two),
+        portable: lanes(pixel, index, dims, offset, two),
+    )
+}
+
+crate::level_fns! {
+    unsafe fn [lanes_avx2, lanes_avx512](
+        pixel: &[u64; 8],
+        index: &[u64; 8],
+        dims: &[u32; 8],
+        offset: u32,
+        two: bool,
+    ) -> ([f32; 8], [f32; 8]) {
+        lanes(pixel, index, dims, offset, two)
+    }
+}
+
+#[inline(always)]
+fn lanes(pixel: &[u64; 8], index: &[u64; 8], dims: &[u32; 8], offset: u32, two: bool) -> ([f32; 8], [f32; 8]) {
+    let mut bits = [0u64; 8];
+    for k in 0..8 {
+        bits[k] = mix64(super::dimension_pattern(pixel[k], dims[k] + offset) ^ index[k]);
+    }
+    let (mut x, mut y) = ([0.0; 8], [0.0; 8]);
+    for k in 0..8 {
+        x[k] = u32_to_unit(bits[k] as u32);
+    }
+    if two {
+        for k in 0..8 {
+            y[k] = u32_to_unit((bits[k] >> 32) as u32);
+        }
+    }
+    (x, y)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::simd::Level;
+
+    /// Every level's lanes give the numbers drawing one key at a time gives, for any
+    /// offset, in 1D and 2D.
+    #[test]
+    fn lanes_at_every_level_are_the_scalar_draws() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state = mix64(state);
+            state
+        };
+        for round in 0..2_000u32 {
+            let pixel: [u64; 8] = std::array::from_fn(|_| next());
+            let index: [u64; 8] = std::array::from_fn(|_| next());
+            let dims: [u32; 8] = std::array::from_fn(|k| (next() % 64) as u32 + k as u32);
+            let (offset, two) = (round % 5, round % 2 == 0);
+            let mut expected = ([0.0f32; 8], [0.0f32; 8]);
+            for k in 0..8 {
+                let key = Key {
+                    pattern: super::super::dimension_pattern(pixel[k], dims[k] + offset),
+                    index: 0,
+                    index_hash: index[k],
+                    index_reversed: 0,
+                    count: 1,
+                    grid: [1, 1],
+                };
+                if two {
+                    let p = sample_2d(&key);
+                    (expected.0[k], expected.1[k]) = (p.x, p.y);
+                } else {
+                    expected.0[k] = sample_1d(&key);
+                }
+            }
+            let bits = |v: ([f32; 8], [f32; 8])| (v.0.map(f32::to_bits), v.1.map(f32::to_bits));
+            let want = bits(expected);
+            assert_eq!(
+                bits(lanes(&pixel, &index, &dims, offset, two)),
+                want,
+                "portable, round {round}"
+            );
+            #[cfg(target_arch = "x86_64")]
+            {
+                if Level::Avx2.supported() {
+                    // SAFETY: the CPU runs AVX2 (checked just above).
+                    let got = unsafe { lanes_avx2(&pixel, &index, &dims, offset, two) };
+                    assert_eq!(bits(got), want, "avx2, round {round}");
+                }
+                if Level::Avx512.supported() {
+                    // SAFETY: the CPU runs AVX-512 (checked just above).
+                    let got = unsafe { lanes_avx512(&pixel, &index, &dims, offset, two) };
+                    assert_eq!(bits(got), want, "avx512, round {round}");
+                }
+            }
+        }
+    }
+}

@@ -86,6 +86,13 @@ pub(crate) fn seed_of(pattern: u64, k: u64) -> u64 {
     crate::hash::mix64(pattern ^ k.wrapping_mul(0x9E37_79B9_7F4A_7C15))
 }
 
+/// The hash of dimension `d` of the pixel hashed `pixel_hash`: SplitMix64's sequence
+/// seeded with the pixel's hash (Steele et al. 2014), one mix per dimension.
+#[inline(always)]
+pub(crate) fn dimension_pattern(pixel_hash: u64, d: u32) -> u64 {
+    crate::hash::mix64(pixel_hash.wrapping_add((d as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15)))
+}
+
 /// The sampler state for one pixel: cheap to create, one per pixel sample.
 #[derive(Clone, Debug)]
 pub struct PixelSampler {
@@ -125,14 +132,10 @@ impl PixelSampler {
         self.pixel_hash = hash_words(&[self.seed, pixel.x as u64, pixel.y as u64]);
     }
 
-    /// The hash of dimension `d` of this pixel: SplitMix64's sequence seeded with the
-    /// pixel's hash (Steele et al. 2014), one mix per dimension.
+    /// The hash of dimension `d` of this pixel ([`dimension_pattern`]).
     #[inline(always)]
     fn pattern(&self, d: u32) -> u64 {
-        crate::hash::mix64(
-            self.pixel_hash
-                .wrapping_add((d as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15)),
-        )
+        dimension_pattern(self.pixel_hash, d)
     }
 
     #[inline]
@@ -196,6 +199,23 @@ impl PixelSampler {
             }
             for (m, &(_, two)) in plan.iter().enumerate() {
                 out[m] = sobol_lanes::sample_lanes(&patterns[m], &index_reversed, two);
+            }
+            return out;
+        }
+        if samplers[lanes[0]].kind == SamplerKind::Independent {
+            // Each lane's pixel and index hashes and dimension, then every draw of the
+            // plan for the eight at once.
+            let (mut pixel, mut index, mut dims) = ([0; 8], [0; 8], [0; 8]);
+            for (k, &i) in lanes.iter().enumerate() {
+                let s = &mut samplers[i];
+                (pixel[k], index[k], dims[k]) = (s.pixel_hash, s.index_hash, s.dimension);
+                s.dimension += advance;
+            }
+            for k in n..8 {
+                (pixel[k], index[k], dims[k]) = (pixel[n - 1], index[n - 1], dims[n - 1]);
+            }
+            for (m, &(offset, two)) in plan.iter().enumerate() {
+                out[m] = independent::sample_lanes(&pixel, &index, &dims, offset, two);
             }
             return out;
         }
