@@ -2,6 +2,7 @@
 
 use super::Key;
 use crate::hash::{mix64, u32_to_unit};
+use crate::simd::Level;
 use glam::Vec2;
 
 #[inline]
@@ -33,13 +34,17 @@ pub(super) fn sample_lanes(
     offset: u32,
     two: bool,
 ) -> ([f32; 8], [f32; 8]) {
-    crate::at_level!(
-        avx512: lanes_avx512(pixel, index, dims, offset, two),
-        avx2: lanes_avx2(pixel, index, dims, offset, two),
-        portable: lanes(pixel, index, dims, offset, two),
-    )
+    // SAFETY: the CPU runs the level's instructions (checked when the level was set).
+    #[cfg(target_arch = "x86_64")]
+    match crate::simd::level() {
+        Level::Avx512 => return unsafe { lanes_avx512(pixel, index, dims, offset, two) },
+        Level::Avx2 => return unsafe { lanes_avx2(pixel, index, dims, offset, two) },
+        Level::Sse2 => {}
+    }
+    lanes(pixel, index, dims, offset, two)
 }
 
+#[cfg(target_arch = "x86_64")]
 crate::level_fns! {
     unsafe fn [lanes_avx2, lanes_avx512](
         pixel: &[u64; 8],
@@ -73,7 +78,6 @@ fn lanes(pixel: &[u64; 8], index: &[u64; 8], dims: &[u32; 8], offset: u32, two: 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::simd::Level;
 
     /// Every level's lanes give the numbers drawing one key at a time gives, for any
     /// offset, in 1D and 2D.
