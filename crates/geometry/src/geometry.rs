@@ -6,7 +6,7 @@
 //! scene's accelerator ([`Geometry::accel`]) answers for both: one structure of the chosen
 //! kind over each, the closer hit winning.
 
-use crate::accel::{build_accel, Accel, AccelKind, PrimitiveSet, TraversalStats};
+use crate::accel::{build_accel, closest_of_two, occluded_by_either, Accel, AccelKind, PrimitiveSet, TraversalStats};
 use crate::instance::{triangle_surface, MeshTriangles};
 use crate::shapes::triangle::TriangleRay;
 use crate::{Hit, Instance, Shape, SurfaceHit, TriangleMesh};
@@ -312,6 +312,12 @@ impl Accel for Split {
     }
     fn primitive_bytes(&self) -> usize {
         self.triangles.primitive_bytes() + self.objects.primitive_bytes()
+    }
+    fn intersect_batch(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
+        closest_of_two(&*self.triangles, &*self.objects, |h| self.renumber(h), rays, hits);
+    }
+    fn occluded_batch(&self, rays: &[(Ray, f32)], blocked: &mut [bool]) {
+        occluded_by_either(&*self.triangles, &*self.objects, rays, blocked);
     }
 }
 

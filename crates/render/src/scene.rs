@@ -74,9 +74,7 @@ impl Scene {
 
     /// [`Scene::occluded`] for each `(ray, t_max)` of `rays`, into `blocked`.
     pub fn occluded_batch(&self, rays: &[(Ray, f32)], blocked: &mut [bool]) {
-        for ((ray, t_max), b) in rays.iter().zip(blocked) {
-            *b = self.occluded(ray, *t_max);
-        }
+        self.accel.occluded_batch(rays, blocked);
     }
 
     /// The area light at the surface `it` hit, with its index in [`Scene::lights`].

@@ -102,6 +102,7 @@ fn check_agreement(seed: u64, n: usize, coincident: bool, with_plane: bool) -> R
     let mut rng = Pcg32::new(seed, 1);
     for kind in AccelKind::ALL {
         let accel = random_scene(seed, n, coincident, with_plane, kind).accel(kind);
+        let mut batch = Vec::new();
         for _ in 0..300 {
             let ray = random_ray(&mut rng);
             let t_max = if rng.next_u32().is_multiple_of(4) {
@@ -109,6 +110,7 @@ fn check_agreement(seed: u64, n: usize, coincident: bool, with_plane: bool) -> R
             } else {
                 f32::INFINITY
             };
+            batch.push((ray, t_max));
             let want = reference.intersect(&ray, t_max);
             let got = accel.intersect(&ray, t_max);
             match (want, got) {
@@ -134,6 +136,14 @@ fn check_agreement(seed: u64, n: usize, coincident: bool, with_plane: bool) -> R
             }
             prop_assert_eq!(reference.occluded(&ray, t_max), accel.occluded(&ray, t_max));
             prop_assert_eq!(want.is_some(), accel.occluded(&ray, t_max));
+        }
+        // A batch answers exactly what the rays one by one answer (`Hit` compared whole).
+        let (mut hits, mut blocked) = (vec![None; batch.len()], vec![false; batch.len()]);
+        accel.intersect_batch(&batch, &mut hits);
+        accel.occluded_batch(&batch, &mut blocked);
+        for (k, (ray, t_max)) in batch.iter().enumerate() {
+            prop_assert_eq!(hits[k], accel.intersect(ray, *t_max), "{:?}: batch, ray {}", kind, k);
+            prop_assert_eq!(blocked[k], accel.occluded(ray, *t_max), "{:?}: batch, ray {}", kind, k);
         }
     }
     Ok(())

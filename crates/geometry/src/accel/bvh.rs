@@ -281,6 +281,22 @@ impl<P: PrimitiveSet> Bvh<P> {
             self.any_hit_kernel::<true>(ray, t_max)
         }
     }
+
+    penumbra_core::level_fns! {
+        unsafe fn [closest_batch_avx2, closest_batch_avx512](&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
+            for ((ray, t_max), hit) in rays.iter().zip(hits) {
+                *hit = self.closest_hit::<(), true>(ray, *t_max, &mut ());
+            }
+        }
+    }
+
+    penumbra_core::level_fns! {
+        unsafe fn [any_hit_batch_avx2, any_hit_batch_avx512](&self, rays: &[(Ray, f32)], blocked: &mut [bool]) {
+            for ((ray, t_max), b) in rays.iter().zip(blocked) {
+                *b = self.any_hit_kernel::<true>(ray, *t_max);
+            }
+        }
+    }
 }
 
 /// Asks the caches for a node about to be pushed: by the time it is popped its cache lines
@@ -412,6 +428,28 @@ impl<P: PrimitiveSet> Traverse for Bvh<P> {
             avx512: self.any_hit_avx512(ray, t_max),
             avx2: self.any_hit_avx2(ray, t_max),
             portable: self.any_hit_kernel::<false>(ray, t_max),
+        )
+    }
+
+    /// The whole batch in one function compiled for the CPU's level.
+    fn closest_batch(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
+        penumbra_core::at_level!(
+            avx512: self.closest_batch_avx512(rays, hits),
+            avx2: self.closest_batch_avx2(rays, hits),
+            portable: for ((ray, t_max), hit) in rays.iter().zip(hits) {
+                *hit = self.closest_hit::<(), false>(ray, *t_max, &mut ());
+            },
+        )
+    }
+
+    /// The whole batch in one function compiled for the CPU's level.
+    fn any_hit_batch(&self, rays: &[(Ray, f32)], blocked: &mut [bool]) {
+        penumbra_core::at_level!(
+            avx512: self.any_hit_batch_avx512(rays, blocked),
+            avx2: self.any_hit_batch_avx2(rays, blocked),
+            portable: for ((ray, t_max), b) in rays.iter().zip(blocked) {
+                *b = self.any_hit_kernel::<false>(ray, *t_max);
+            },
         )
     }
 

@@ -43,6 +43,11 @@ pub trait Accel: Send + Sync {
     /// Bytes of the primitive data the structure reads (for a mesh, its packed vertices):
     /// its own leaf-ordered copy, or the set it was built over.
     fn primitive_bytes(&self) -> usize;
+    /// [`Accel::intersect`] for each `(ray, t_max)` of `rays`, into `hits`: one call (and
+    /// one choice of SIMD level) for a whole batch of a wavefront's rays.
+    fn intersect_batch(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]);
+    /// [`Accel::occluded`] for each `(ray, t_max)` of `rays`, into `blocked`.
+    fn occluded_batch(&self, rays: &[(Ray, f32)], blocked: &mut [bool]);
 }
 
 /// What an accelerator implements; [`Accel`] follows from it, with the closest-hit query
@@ -53,6 +58,18 @@ pub trait Traverse: Send + Sync {
     fn extent(&self) -> Aabb;
     fn bytes(&self) -> usize;
     fn prim_bytes(&self) -> usize;
+    /// [`Accel::intersect_batch`], one ray after another.
+    fn closest_batch(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
+        for ((ray, t_max), hit) in rays.iter().zip(hits) {
+            *hit = self.closest(ray, *t_max, &mut ());
+        }
+    }
+    /// [`Accel::occluded_batch`], one ray after another.
+    fn any_hit_batch(&self, rays: &[(Ray, f32)], blocked: &mut [bool]) {
+        for ((ray, t_max), b) in rays.iter().zip(blocked) {
+            *b = self.any_hit(ray, *t_max);
+        }
+    }
 }
 
 impl<T: Traverse> Accel for T {
@@ -73,6 +90,12 @@ impl<T: Traverse> Accel for T {
     }
     fn primitive_bytes(&self) -> usize {
         self.prim_bytes()
+    }
+    fn intersect_batch(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
+        self.closest_batch(rays, hits)
+    }
+    fn occluded_batch(&self, rays: &[(Ray, f32)], blocked: &mut [bool]) {
+        self.any_hit_batch(rays, blocked)
     }
 }
 
@@ -329,6 +352,64 @@ impl<P: PrimitiveSet> Accel for WithUnbounded<P> {
     }
     fn primitive_bytes(&self) -> usize {
         self.inner.primitive_bytes()
+    }
+    fn intersect_batch(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
+        closest_of_two(&self.unbounded, &*self.inner, |h| h, rays, hits);
+    }
+    fn occluded_batch(&self, rays: &[(Ray, f32)], blocked: &mut [bool]) {
+        occluded_by_either(&self.unbounded, &*self.inner, rays, blocked);
+    }
+}
+
+/// Rays a batch over two structures handles at a time (room on the stack).
+const CHUNK: usize = 64;
+
+/// [`Accel::intersect_batch`] over two structures: `first`'s hits (renumbered by `map`),
+/// then `second`'s, each ray limited to its hit in `first`, as `second.intersect(ray,
+/// t).or(near)` answers one ray.
+pub(crate) fn closest_of_two(
+    first: &dyn Accel,
+    second: &dyn Accel,
+    map: impl Fn(Hit) -> Hit,
+    rays: &[(Ray, f32)],
+    hits: &mut [Option<Hit>],
+) {
+    for (rays, hits) in rays.chunks(CHUNK).zip(hits.chunks_mut(CHUNK)) {
+        first.intersect_batch(rays, hits);
+        let mut limited = [(Ray::new(glam::Vec3::ZERO, glam::Vec3::Z), 0.0); CHUNK];
+        for ((l, (ray, t_max)), hit) in limited.iter_mut().zip(rays).zip(hits.iter_mut()) {
+            *hit = hit.map(&map);
+            *l = (*ray, hit.map_or(*t_max, |h| h.t));
+        }
+        let mut closer = [None; CHUNK];
+        second.intersect_batch(&limited[..rays.len()], &mut closer[..rays.len()]);
+        for (hit, c) in hits.iter_mut().zip(closer) {
+            if c.is_some() {
+                *hit = c;
+            }
+        }
+    }
+}
+
+/// [`Accel::occluded_batch`] over two structures: `second` asked only about the rays
+/// `first` left unblocked.
+pub(crate) fn occluded_by_either(first: &dyn Accel, second: &dyn Accel, rays: &[(Ray, f32)], blocked: &mut [bool]) {
+    for (rays, blocked) in rays.chunks(CHUNK).zip(blocked.chunks_mut(CHUNK)) {
+        first.occluded_batch(rays, blocked);
+        let mut open = [(Ray::new(glam::Vec3::ZERO, glam::Vec3::Z), 0.0); CHUNK];
+        let mut which = [0; CHUNK];
+        let mut n = 0;
+        for (k, (ray, b)) in rays.iter().zip(blocked.iter()).enumerate() {
+            if !b {
+                (open[n], which[n]) = (*ray, k);
+                n += 1;
+            }
+        }
+        let mut second_blocked = [false; CHUNK];
+        second.occluded_batch(&open[..n], &mut second_blocked[..n]);
+        for (&k, &b) in which[..n].iter().zip(&second_blocked) {
+            blocked[k] = b;
+        }
     }
 }
 

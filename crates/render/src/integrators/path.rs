@@ -192,6 +192,9 @@ impl PathTracer {
         // Shadow rays (ray, t_max), the path and light each brings if unblocked, and the
         // answers.
         let mut shadow_rays = [(no_ray, 0.0f32); N];
+        // The live paths' rays, traced together, and their hits.
+        let mut closest_rays = [(no_ray, 0.0f32); N];
+        let mut hits = [None; N];
         let mut shadow_light = [(0usize, Rgb::BLACK); N];
         let mut blocked = [false; N];
         // The shading points of a depth (other than the lanes' Lambertian triangles), what
@@ -224,8 +227,11 @@ impl PathTracer {
             // are not emitters: nothing to add before their bounce).
             group.clear();
             others.clear();
-            for k in 0..count {
-                let hit = scene.accel.intersect(&paths[live[k]].ray, f32::INFINITY);
+            for (k, r) in closest_rays[..count].iter_mut().enumerate() {
+                *r = (paths[live[k]].ray, f32::INFINITY);
+            }
+            scene.accel.intersect_batch(&closest_rays[..count], &mut hits[..count]);
+            for (k, &hit) in hits[..count].iter().enumerate() {
                 match hit.and_then(|hit| self.diffuse_lane(scene, &lanes, k, &hit)) {
                     Some(_) if depth + 1 >= self.options.max_depth => paths[live[k]].alive = false,
                     Some(d) => group.push(d),
