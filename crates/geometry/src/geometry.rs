@@ -4,12 +4,16 @@
 //! that an accelerator over them stores them in SIMD packets of four in leaf order; the
 //! shapes and instances form a second set (the [`PrimitiveSet`] of `Geometry` itself). A
 //! scene's accelerator ([`Geometry::accel`]) answers for both: one structure of the chosen
-//! kind over each, the closer hit winning.
+//! kind over each, the closer hit winning; or, when the triangles are a handful beside
+//! shapes (a ground quad under spheres), one structure over the shapes' set with the
+//! triangles in it, so that a ray walks one structure, not two.
 
 use crate::accel::{build_accel, closest_of_two, occluded_by_either, Accel, AccelKind, PrimitiveSet, TraversalStats};
 use crate::instance::{triangle_surface, MeshTriangles};
-use crate::shapes::triangle::TriangleRay;
+use crate::shapes::triangle::{intersect_triangle_prepared, TriangleRay};
+use crate::shapes::triangle_box::{triangle_clipped_bounds, triangle_overlaps_box};
 use crate::{Hit, Instance, Shape, SurfaceHit, TriangleMesh};
+use glam::Vec3;
 use penumbra_core::{Aabb, Ray};
 use std::sync::Arc;
 
@@ -35,7 +39,14 @@ pub struct Geometry {
     /// hit instead of a binary search over `pooled_starts`, whose unpredictable branches
     /// cost more than the 4 bytes per triangle.
     pooled_mesh: Vec<u32>,
+    /// The pooled triangles are few ([`INLINE_TRIANGLES`] or fewer) beside shapes or
+    /// instances: they join the shapes' set, so that a ray walks one structure, not two.
+    inline_triangles: bool,
 }
+
+/// Most pooled triangles that join the shapes' set (a ground quad, a few light quads)
+/// rather than getting a structure of their own, which every ray would walk as well.
+const INLINE_TRIANGLES: usize = 16;
 
 /// Collects shapes, meshes and instances, numbering them as scene objects in order.
 #[derive(Default)]
@@ -96,6 +107,7 @@ impl GeometryBuilder {
                 .flat_map(|(k, (mesh, _))| std::iter::repeat_n(k as u32, mesh.indices.len()))
                 .collect();
         }
+        g.inline_triangles = !g.prims.is_empty() && (1..=INLINE_TRIANGLES).contains(&pooled.indices.len());
         g.pooled = Arc::new(pooled);
         g
     }
@@ -105,6 +117,9 @@ impl Geometry {
     /// The accelerator `kind` over this geometry. Hits on pooled triangles carry
     /// `prim = shapes and instances + pooled triangle`.
     pub fn accel(self: &Arc<Self>, kind: AccelKind) -> Box<dyn Accel> {
+        if self.inline_triangles {
+            return build_accel(kind, self.clone());
+        }
         let triangles = (!self.pooled.indices.is_empty())
             .then(|| build_accel(kind, Arc::new(MeshTriangles::new(self.pooled.clone()))));
         let objects = (!self.prims.is_empty() || triangles.is_none()).then(|| build_accel(kind, self.clone()));
@@ -213,7 +228,18 @@ impl Geometry {
     }
 }
 
-/// The shapes and instances (the pooled triangles have their own set).
+impl Geometry {
+    /// Pooled triangle `i - prims.len()` of the set's primitive `i`, for a set with its
+    /// triangles inline.
+    #[inline]
+    fn inline_triangle(&self, i: u32) -> Option<[Vec3; 3]> {
+        let t = (i as usize).checked_sub(self.prims.len())?;
+        Some(self.pooled.vertices(t))
+    }
+}
+
+/// The shapes and instances, numbered as in hits; the pooled triangles after them when
+/// they are inline (else they have their own set).
 impl PrimitiveSet for Geometry {
     type RayData = TriangleRay;
     #[inline]
@@ -223,17 +249,43 @@ impl PrimitiveSet for Geometry {
 
     fn len(&self) -> usize {
         self.prims.len()
+            + if self.inline_triangles {
+                self.pooled.indices.len()
+            } else {
+                0
+            }
     }
 
     fn bounds(&self, i: u32) -> Aabb {
+        if let Some(tri) = self.inline_triangle(i) {
+            return Aabb::from_points(tri);
+        }
         match self.prims[i as usize] {
             Prim::Shape(s) => self.shapes[s as usize].0.bounds(),
             Prim::Instance(k) => self.instances[k as usize].0.bounds(),
         }
     }
 
+    fn overlaps(&self, i: u32, b: &Aabb) -> bool {
+        match self.inline_triangle(i) {
+            Some(tri) => triangle_overlaps_box(tri, b),
+            None => self.bounds(i).overlaps(b),
+        }
+    }
+
+    fn clip_bounds(&self, i: u32, b: &Aabb) -> Aabb {
+        match self.inline_triangle(i) {
+            Some(tri) => triangle_clipped_bounds(tri, b),
+            None => self.bounds(i).intersection(*b),
+        }
+    }
+
     #[inline]
-    fn intersect(&self, i: u32, ray: &Ray, _data: &TriangleRay, t_max: f32) -> Option<Hit> {
+    fn intersect(&self, i: u32, ray: &Ray, data: &TriangleRay, t_max: f32) -> Option<Hit> {
+        if let Some(tri) = self.inline_triangle(i) {
+            // The test the triangles' own set makes (`Triangle4` gives these bits).
+            return intersect_triangle_prepared(data, tri, t_max).map(|(t, uv)| Hit { t, prim: i, sub: 0, uv });
+        }
         match self.prims[i as usize] {
             Prim::Shape(s) => {
                 self.shapes[s as usize]
@@ -261,6 +313,9 @@ impl PrimitiveSet for Geometry {
     }
 
     fn occluded(&self, i: u32, ray: &Ray, data: &TriangleRay, t_max: f32) -> bool {
+        if i as usize >= self.prims.len() {
+            return self.intersect(i, ray, data, t_max).is_some();
+        }
         match self.prims[i as usize] {
             Prim::Instance(k) => self.instances[k as usize].0.occluded(ray, t_max),
             _ => self.intersect(i, ray, data, t_max).is_some(),
@@ -357,6 +412,62 @@ mod tests {
                     assert_eq!((s.object, s.triangle), (m as u32, k as u32), "mesh {m}, triangle {k}");
                 }
             }
+        }
+    }
+
+    /// A handful of triangles beside shapes join the shapes' structure: every kind of
+    /// accelerator gives the hits (primitive, distance and barycentrics, bit for bit) and
+    /// shadow answers of the two structures, for a ground quad of two triangles under
+    /// spheres and a few more triangles, rays from everywhere.
+    #[test]
+    fn inline_triangles_answer_as_their_own_structure_would() {
+        use crate::shapes::Sphere;
+        use penumbra_core::Pcg32;
+        let build = |inline: bool| {
+            let mut b = GeometryBuilder::new();
+            for k in 0..3 {
+                let c = Vec3::new(k as f32 * 2.0 - 2.0, 1.0, 0.0);
+                b.add_shape(Shape::Sphere(Sphere::new(c, 0.9, &Transform::IDENTITY).unwrap()));
+            }
+            b.add_mesh(TriangleMesh {
+                positions: vec![
+                    Vec3::new(-5.0, 0.0, -5.0),
+                    Vec3::new(5.0, 0.0, -5.0),
+                    Vec3::new(5.0, 0.0, 5.0),
+                    Vec3::new(-5.0, 0.0, 5.0),
+                ],
+                indices: vec![[0, 1, 2], [0, 2, 3]],
+                ..Default::default()
+            });
+            b.add_mesh(TriangleMesh {
+                positions: vec![
+                    Vec3::new(0.0, 2.5, 0.0),
+                    Vec3::new(1.0, 2.5, 0.5),
+                    Vec3::new(0.0, 3.0, 1.0),
+                ],
+                indices: vec![[0, 1, 2]],
+                ..Default::default()
+            });
+            let mut g = b.build();
+            assert!(g.inline_triangles, "three triangles beside shapes go inline");
+            g.inline_triangles = inline;
+            Arc::new(g)
+        };
+        let (inline, split) = (build(true), build(false));
+        let mut rng = Pcg32::new(5, 9);
+        let mut point = || Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 12.0 - Vec3::splat(6.0);
+        for kind in AccelKind::ALL {
+            let (a, b) = (inline.accel(kind), split.accel(kind));
+            let mut hits = 0;
+            for _ in 0..2_000 {
+                let (o, target) = (point(), point());
+                let ray = Ray::new(o, target - o);
+                let t_max = if hits % 3 == 0 { 5.0 } else { f32::INFINITY };
+                assert_eq!(a.intersect(&ray, t_max), b.intersect(&ray, t_max), "{kind:?} {ray:?}");
+                assert_eq!(a.occluded(&ray, t_max), b.occluded(&ray, t_max), "{kind:?} {ray:?}");
+                hits += a.intersect(&ray, t_max).is_some() as usize;
+            }
+            assert!(hits > 500, "{kind:?}: only {hits} hits");
         }
     }
 
