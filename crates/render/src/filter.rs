@@ -193,12 +193,16 @@ impl Filters {
                 .sum::<f64>()
                 * step
         };
-        // Pixel centre c = k + 1/2 of a side of n pixels: ∫ f(x - c) over x in [0, n].
+        // Pixel centre c = k + 1/2 of a side of n pixels: ∫ f(x - c) over x in [0, n]; the
+        // whole filter's integral (the same sum) where the filter lies inside the image.
+        let whole = integral(f64::NEG_INFINITY, f64::INFINITY);
+        let r = radius as f64;
         let factors = |n: u32| -> Vec<f32> {
             (0..n)
                 .map(|k| {
                     let c = k as f64 + 0.5;
-                    let mass = integral(-c, n as f64 - c);
+                    let (lo, hi) = (-c, n as f64 - c);
+                    let mass = if lo <= -r && hi >= r { whole } else { integral(lo, hi) };
                     if mass > 0.0 {
                         (1.0 / mass) as f32
                     } else {
