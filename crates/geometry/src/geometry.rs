@@ -182,6 +182,14 @@ impl Geometry {
         &self.meshes
     }
 
+    /// Pooled triangle `i - prims.len()` of the set's primitive `i`, for a set with its
+    /// triangles inline.
+    #[inline]
+    fn inline_triangle(&self, i: u32) -> Option<[Vec3; 3]> {
+        let t = (i as usize).checked_sub(self.prims.len())?;
+        Some(self.pooled.vertices(t))
+    }
+
     /// The full surface description at `hit`, which `ray` produced.
     pub fn surface(&self, ray: &Ray, hit: &Hit) -> SurfaceHit {
         let Some(&prim) = self.prims.get(hit.prim as usize) else {
@@ -225,16 +233,6 @@ impl Geometry {
                 }
             }
         }
-    }
-}
-
-impl Geometry {
-    /// Pooled triangle `i - prims.len()` of the set's primitive `i`, for a set with its
-    /// triangles inline.
-    #[inline]
-    fn inline_triangle(&self, i: u32) -> Option<[Vec3; 3]> {
-        let t = (i as usize).checked_sub(self.prims.len())?;
-        Some(self.pooled.vertices(t))
     }
 }
 
@@ -459,10 +457,10 @@ mod tests {
         for kind in AccelKind::ALL {
             let (a, b) = (inline.accel(kind), split.accel(kind));
             let mut hits = 0;
-            for _ in 0..2_000 {
+            for round in 0..2_000 {
                 let (o, target) = (point(), point());
                 let ray = Ray::new(o, target - o);
-                let t_max = if hits % 3 == 0 { 5.0 } else { f32::INFINITY };
+                let t_max = if round % 3 == 0 { 5.0 } else { f32::INFINITY };
                 assert_eq!(a.intersect(&ray, t_max), b.intersect(&ray, t_max), "{kind:?} {ray:?}");
                 assert_eq!(a.occluded(&ray, t_max), b.occluded(&ray, t_max), "{kind:?} {ray:?}");
                 hits += a.intersect(&ray, t_max).is_some() as usize;
