@@ -21,47 +21,43 @@ fn bits(key: &Key) -> u64 {
     mix64(key.pattern ^ key.index_hash)
 }
 
+/// Eight samplers' state for [`sample_lanes`]: lane `k` is the pixel hashed `pixel[k]`,
+/// the sample index hashed `index[k]`, at dimension `dims[k]`.
+pub(super) struct LaneKeys {
+    pub pixel: [u64; 8],
+    pub index: [u64; 8],
+    pub dims: [u32; 8],
+}
+
 /// The numbers of eight samplers at once: lane `k` is what [`sample_2d`] (with `two`, else
-/// [`sample_1d`] in `x` and 0 in `y`) gives for dimension `dims[k] + offset` of the pixel
-/// hashed `pixel[k]`, sample index hashed `index[k]`. The same integer operations per lane,
-/// written so that the compiler turns the loop into SIMD code at the CPU's level (64-bit
-/// lane products where AVX-512 has them), so every level gives the same bits.
+/// [`sample_1d`] in `x` and 0 in `y`) gives for dimension `dims[k] + offset` of its keys.
+/// The same integer operations per lane, written so that the compiler turns the loop into
+/// SIMD code at the CPU's level (64-bit lane products where AVX-512 has them), so every
+/// level gives the same bits.
 #[inline]
-pub(super) fn sample_lanes(
-    pixel: &[u64; 8],
-    index: &[u64; 8],
-    dims: &[u32; 8],
-    offset: u32,
-    two: bool,
-) -> ([f32; 8], [f32; 8]) {
+pub(super) fn sample_lanes(keys: &LaneKeys, offset: u32, two: bool) -> ([f32; 8], [f32; 8]) {
     // SAFETY: the CPU runs the level's instructions (checked when the level was set).
     #[cfg(target_arch = "x86_64")]
     match crate::simd::level() {
-        Level::Avx512 => return unsafe { lanes_avx512(pixel, index, dims, offset, two) },
-        Level::Avx2 => return unsafe { lanes_avx2(pixel, index, dims, offset, two) },
+        Level::Avx512 => return unsafe { lanes_avx512(keys, offset, two) },
+        Level::Avx2 => return unsafe { lanes_avx2(keys, offset, two) },
         Level::Sse2 => {}
     }
-    lanes(pixel, index, dims, offset, two)
+    lanes(keys, offset, two)
 }
 
 #[cfg(target_arch = "x86_64")]
 crate::level_fns! {
-    unsafe fn [lanes_avx2, lanes_avx512](
-        pixel: &[u64; 8],
-        index: &[u64; 8],
-        dims: &[u32; 8],
-        offset: u32,
-        two: bool,
-    ) -> ([f32; 8], [f32; 8]) {
-        lanes(pixel, index, dims, offset, two)
+    unsafe fn [lanes_avx2, lanes_avx512](keys: &LaneKeys, offset: u32, two: bool) -> ([f32; 8], [f32; 8]) {
+        lanes(keys, offset, two)
     }
 }
 
 #[inline(always)]
-fn lanes(pixel: &[u64; 8], index: &[u64; 8], dims: &[u32; 8], offset: u32, two: bool) -> ([f32; 8], [f32; 8]) {
+fn lanes(keys: &LaneKeys, offset: u32, two: bool) -> ([f32; 8], [f32; 8]) {
     let mut bits = [0u64; 8];
-    for k in 0..8 {
-        bits[k] = mix64(super::dimension_pattern(pixel[k], dims[k] + offset) ^ index[k]);
+    for (k, b) in bits.iter_mut().enumerate() {
+        *b = mix64(super::dimension_pattern(keys.pixel[k], keys.dims[k] + offset) ^ keys.index[k]);
     }
     let (mut x, mut y) = ([0.0; 8], [0.0; 8]);
     for k in 0..8 {
@@ -92,6 +88,7 @@ mod tests {
             let pixel: [u64; 8] = std::array::from_fn(|_| next());
             let index: [u64; 8] = std::array::from_fn(|_| next());
             let dims: [u32; 8] = std::array::from_fn(|k| (next() % 64) as u32 + k as u32);
+            let keys = LaneKeys { pixel, index, dims };
             let (offset, two) = (round % 5, round % 2 == 0);
             let mut expected = ([0.0f32; 8], [0.0f32; 8]);
             for k in 0..8 {
@@ -112,21 +109,17 @@ mod tests {
             }
             let bits = |v: ([f32; 8], [f32; 8])| (v.0.map(f32::to_bits), v.1.map(f32::to_bits));
             let want = bits(expected);
-            assert_eq!(
-                bits(lanes(&pixel, &index, &dims, offset, two)),
-                want,
-                "portable, round {round}"
-            );
+            assert_eq!(bits(lanes(&keys, offset, two)), want, "portable, round {round}");
             #[cfg(target_arch = "x86_64")]
             {
                 if Level::Avx2.supported() {
                     // SAFETY: the CPU runs AVX2 (checked just above).
-                    let got = unsafe { lanes_avx2(&pixel, &index, &dims, offset, two) };
+                    let got = unsafe { lanes_avx2(&keys, offset, two) };
                     assert_eq!(bits(got), want, "avx2, round {round}");
                 }
                 if Level::Avx512.supported() {
                     // SAFETY: the CPU runs AVX-512 (checked just above).
-                    let got = unsafe { lanes_avx512(&pixel, &index, &dims, offset, two) };
+                    let got = unsafe { lanes_avx512(&keys, offset, two) };
                     assert_eq!(bits(got), want, "avx512, round {round}");
                 }
             }

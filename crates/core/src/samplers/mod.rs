@@ -205,17 +205,20 @@ impl PixelSampler {
         if samplers[lanes[0]].kind == SamplerKind::Independent {
             // Each lane's pixel and index hashes and dimension, then every draw of the
             // plan for the eight at once.
-            let (mut pixel, mut index, mut dims) = ([0; 8], [0; 8], [0; 8]);
-            for (k, &i) in lanes.iter().enumerate() {
-                let s = &mut samplers[i];
-                (pixel[k], index[k], dims[k]) = (s.pixel_hash, s.index_hash, s.dimension);
-                s.dimension += advance;
+            let mut keys = independent::LaneKeys {
+                pixel: [0; 8],
+                index: [0; 8],
+                dims: [0; 8],
+            };
+            for k in 0..8 {
+                let s = &mut samplers[lanes[k.min(n - 1)]];
+                (keys.pixel[k], keys.index[k], keys.dims[k]) = (s.pixel_hash, s.index_hash, s.dimension);
             }
-            for k in n..8 {
-                (pixel[k], index[k], dims[k]) = (pixel[n - 1], index[n - 1], dims[n - 1]);
+            for &i in lanes {
+                samplers[i].dimension += advance;
             }
             for (m, &(offset, two)) in plan.iter().enumerate() {
-                out[m] = independent::sample_lanes(&pixel, &index, &dims, offset, two);
+                out[m] = independent::sample_lanes(&keys, offset, two);
             }
             return out;
         }
