@@ -211,7 +211,7 @@ impl PixelSampler {
                 dims: [0; 8],
             };
             for k in 0..8 {
-                let s = &mut samplers[lanes[k.min(n - 1)]];
+                let s = &samplers[lanes[k.min(n - 1)]];
                 (keys.pixel[k], keys.index[k], keys.dims[k]) = (s.pixel_hash, s.index_hash, s.dimension);
             }
             for &i in lanes {

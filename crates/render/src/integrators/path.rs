@@ -14,7 +14,8 @@
 //! 2013): closest hits for every live path; then at each surface the emission met, a light
 //! sample (its shadow ray kept) and the continuation; then every shadow ray. Each stage is
 //! a loop over the batch (a whole tile of camera rays, [`BATCH`]), so the rays of a stage
-//! go to the accelerator together ([`Scene::occluded_batch`]); paths at plain Lambertian
+//! go to the accelerator together (`Accel::intersect_batch`, [`Scene::occluded_batch`]:
+//! one call, at the CPU's SIMD level, for all of them); paths at plain Lambertian
 //! triangles are set aside at the hit and take their bounce eight at a time in SIMD lanes
 //! (`diffuse_lanes.rs`). Every path draws its random numbers and adds its terms in the
 //! order a path traced alone would, so a batch gives exactly the radiance of its paths
