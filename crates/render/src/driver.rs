@@ -334,7 +334,6 @@ struct Scratch {
     splats: Vec<Splat>,
 }
 
-#[allow(clippy::too_many_arguments)]
 /// `v.floor()` for coordinates well inside `i32`'s range, without the library call the
 /// baseline x86-64 build makes for `f32::floor` (it has no rounding instruction).
 #[inline(always)]
@@ -364,6 +363,7 @@ fn ceil_small(v: Vec2) -> Vec2 {
     Vec2::new(ceil(v.x), ceil(v.y))
 }
 
+#[allow(clippy::too_many_arguments)]
 fn render_tile(
     scene: &Scene,
     integrator: &dyn Integrator,
