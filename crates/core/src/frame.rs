@@ -15,23 +15,13 @@ impl Frame {
     /// A frame around the unit vector `n`, after Duff et al., "Building an Orthonormal
     /// Basis, Revisited" (JCGT 2017): branchless and continuous except at one sign flip.
     pub fn from_normal(n: Vec3) -> Self {
-        let b = Basis::from_normal(V3::from(n));
-        Frame {
-            s: b.s.into(),
-            t: b.t.into(),
-            n,
-        }
+        Basis::from_normal(V3::from(n)).into()
     }
 
     /// A frame around the unit vector `n` whose first axis is the tangent `t` made
     /// orthogonal to `n` (Gram-Schmidt); [`Frame::from_normal`] when `t` is zero or along `n`.
     pub fn from_normal_tangent(n: Vec3, t: Vec3) -> Self {
-        let b = Basis::from_normal_tangent(V3::from(n), V3::from(t));
-        Frame {
-            s: b.s.into(),
-            t: b.t.into(),
-            n,
-        }
+        Basis::from_normal_tangent(V3::from(n), V3::from(t)).into()
     }
 
     pub fn to_local(&self, v: Vec3) -> Vec3 {
@@ -47,6 +37,18 @@ impl Frame {
             s: self.s.into(),
             t: self.t.into(),
             n: self.n.into(),
+        }
+    }
+}
+
+/// The one-lane basis as a frame (the same three vectors).
+impl From<Basis<f32>> for Frame {
+    #[inline(always)]
+    fn from(b: Basis<f32>) -> Self {
+        Frame {
+            s: b.s.into(),
+            t: b.t.into(),
+            n: b.n.into(),
         }
     }
 }

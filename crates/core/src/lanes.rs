@@ -88,6 +88,16 @@ pub trait Real:
     fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     fn or(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     fn not(a: Self::Mask) -> Self::Mask;
+    /// The mask that holds in every lane where `b`, in none otherwise.
+    #[inline(always)]
+    fn splat_mask(b: bool) -> Self::Mask {
+        let zero = Self::splat(0.0);
+        if b {
+            zero.cmp_le(zero)
+        } else {
+            zero.cmp_lt(zero)
+        }
+    }
     /// Whether `mask` holds in any lane: work whose lanes would all be dropped by a select
     /// may be skipped (for one lane, the scalar code's branch).
     fn any(mask: Self::Mask) -> bool;

@@ -76,6 +76,31 @@ impl<R: Real> V3<R> {
             R::select(mask, t.z, f.z),
         )
     }
+
+    /// Per lane: whether all three components are zero (for a colour, `Rgb::is_black`).
+    #[inline(always)]
+    pub fn is_black(self) -> R::Mask {
+        let zero = R::splat(0.0);
+        R::and(R::and(self.x.cmp_eq(zero), self.y.cmp_eq(zero)), self.z.cmp_eq(zero))
+    }
+
+    /// A colour's luminance per lane, as `Rgb::luminance` sums it.
+    #[inline(always)]
+    pub fn luminance(self) -> R {
+        R::splat(0.2126) * self.x + R::splat(0.7152) * self.y + R::splat(0.0722) * self.z
+    }
+
+    /// A vector in every lane.
+    #[inline(always)]
+    pub fn splat_vec(v: glam::Vec3) -> Self {
+        V3::new(R::splat(v.x), R::splat(v.y), R::splat(v.z))
+    }
+
+    /// A colour in every lane.
+    #[inline(always)]
+    pub fn splat_rgb(c: crate::Rgb) -> Self {
+        V3::new(R::splat(c.r), R::splat(c.g), R::splat(c.b))
+    }
 }
 
 impl<R: Real> std::ops::Sub for V3<R> {
@@ -113,33 +138,6 @@ impl From<V3<f32>> for glam::Vec3 {
     #[inline(always)]
     fn from(v: V3<f32>) -> Self {
         glam::Vec3::new(v.x, v.y, v.z)
-    }
-}
-
-impl<R: Real> V3<R> {
-    /// Per lane: whether all three components are zero (for a colour, `Rgb::is_black`).
-    #[inline(always)]
-    pub fn is_black(self) -> R::Mask {
-        let zero = R::splat(0.0);
-        R::and(R::and(self.x.cmp_eq(zero), self.y.cmp_eq(zero)), self.z.cmp_eq(zero))
-    }
-
-    /// A colour's luminance per lane, as `Rgb::luminance` sums it.
-    #[inline(always)]
-    pub fn luminance(self) -> R {
-        R::splat(0.2126) * self.x + R::splat(0.7152) * self.y + R::splat(0.0722) * self.z
-    }
-
-    /// A vector in every lane.
-    #[inline(always)]
-    pub fn splat_vec(v: glam::Vec3) -> Self {
-        V3::new(R::splat(v.x), R::splat(v.y), R::splat(v.z))
-    }
-
-    /// A colour in every lane.
-    #[inline(always)]
-    pub fn splat_rgb(c: crate::Rgb) -> Self {
-        V3::new(R::splat(c.r), R::splat(c.g), R::splat(c.b))
     }
 }
 

@@ -147,16 +147,16 @@ impl<R: Real> LaneKernel<R> for ConductorLanes<R> {
                     wi,
                     weight: self.fresnel(wo.dot(m)).scale(self.ggx.g2(wo, wi) / self.ggx.g1(wo)),
                     pdf: self.ggx.reflection_pdf(wo, m),
-                    delta: zero.cmp_lt(zero),
+                    delta: R::splat_mask(false),
                     eta: one,
                     ok: R::and(front, ok),
                 }
             },
             LaneSample {
-                wi: V3::new(-wo.x, -wo.y, wo.z),
+                wi: super::reflect_z_lanes(wo),
                 weight: self.fresnel(wo.z),
                 pdf: one,
-                delta: zero.cmp_le(zero),
+                delta: R::splat_mask(true),
                 eta: one,
                 ok: front,
             }

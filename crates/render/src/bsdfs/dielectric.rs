@@ -9,8 +9,8 @@
 
 use super::microfacet::Ggx;
 use super::{
-    one_lane_methods, reflect_z, same_hemisphere, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays,
-    TransportMode,
+    one_lane_methods, reflect_z, reflect_z_lanes, same_hemisphere, BsdfModel, BsdfSample, Gather, LaneKernel,
+    LaneSample, SpecularRays, TransportMode,
 };
 use crate::optics::{fresnel_dielectric, refract, refract_lanes};
 use glam::{Vec2, Vec3};
@@ -111,7 +111,7 @@ impl<R: Real> DielectricLanes<R> {
         let (refracted, crosses) = refract_lanes(wo, V3::new(zero * s, zero * s, one * s), eta_rel);
         let reflect = u.cmp_lt(f);
         LaneSample {
-            wi: V3::select(reflect, V3::new(-wo.x, -wo.y, wo.z), refracted),
+            wi: V3::select(reflect, reflect_z_lanes(wo), refracted),
             weight: V3::select(
                 reflect,
                 self.reflectance,
@@ -144,7 +144,7 @@ impl<R: Real> DielectricLanes<R> {
             wi,
             weight: self.eval(wo, wi).scale(wi.z.abs() / pdf),
             pdf,
-            delta: zero.cmp_lt(zero),
+            delta: R::splat_mask(false),
             eta: R::select(reflect, one, eta_rel),
             ok: R::and(R::and(R::or(reflect, crosses), consistent), pdf.cmp_gt(zero)),
         }

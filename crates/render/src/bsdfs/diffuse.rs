@@ -69,7 +69,7 @@ impl<R: Real> LaneKernel<R> for DiffuseLanes<R> {
             wi,
             weight: self.reflectance,
             pdf,
-            delta: zero.cmp_lt(zero),
+            delta: R::splat_mask(false),
             eta: R::splat(1.0),
             ok: R::and(R::not(wo.z.cmp_le(zero)), pdf.cmp_gt(zero)),
         }

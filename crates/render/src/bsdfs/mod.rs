@@ -423,5 +423,11 @@ pub(crate) fn same_hemisphere(a: Vec3, b: Vec3) -> bool {
 /// Mirror reflection about the normal, in the local frame.
 #[inline]
 pub(crate) fn reflect_z(w: Vec3) -> Vec3 {
-    Vec3::new(-w.x, -w.y, w.z)
+    reflect_z_lanes(w.into()).into()
+}
+
+/// [`reflect_z`] per lane of any [`Real`] type.
+#[inline(always)]
+pub(crate) fn reflect_z_lanes<R: Real>(w: V3<R>) -> V3<R> {
+    V3::new(-w.x, -w.y, w.z)
 }

@@ -9,7 +9,10 @@
 //! `eval`, `pdf`, `sample` and the Whitted integrator's `specular_rays`) is the one-lane
 //! instance.
 
-use super::{one_lane_methods, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays, TransportMode};
+use super::{
+    one_lane_methods, reflect_z_lanes, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays,
+    TransportMode,
+};
 use crate::optics::{fresnel_dielectric, refract_lanes};
 use glam::{Vec2, Vec3};
 use penumbra_core::frame::Basis;
@@ -55,12 +58,6 @@ struct DeltaRays<R: Real> {
     eta: R,
     /// The sum of the rays' luminances, as `Iterator::sum` adds them (from -0).
     luminance: R,
-}
-
-/// Mirror reflection about the normal, in the local frame.
-#[inline(always)]
-fn reflect_z<R: Real>(w: V3<R>) -> V3<R> {
-    V3::new(-w.x, -w.y, w.z)
 }
 
 /// `w` turned to the upper side (both-sided lobes are evaluated above).
@@ -125,7 +122,7 @@ impl<R: Real> PhongLanes<R> {
         let pdf = pd * (wi.z.max(zero) * R::splat(FRAC_1_PI));
         let glossy = pd.cmp_lt(one);
         let pdf = if R::any(glossy) {
-            let lobe = Basis::from_normal(reflect_z(wo)).to_local(wi);
+            let lobe = Basis::from_normal(reflect_z_lanes(wo)).to_local(wi);
             let with_lobe = pdf + (one - pd) * warp::phong_lobe_pdf_lanes(lobe, self.exponent);
             R::select(glossy, with_lobe, pdf)
         } else {
@@ -157,7 +154,7 @@ impl<R: Real> PhongLanes<R> {
             let interface = V3::select(transmits, self.transmission.scale(f), V3::splat(0.0));
             (interface, refracted, refracted_weight, refracts)
         } else {
-            (V3::splat(0.0), wo, V3::splat(0.0), zero.cmp_lt(zero))
+            (V3::splat(0.0), wo, V3::splat(0.0), R::splat_mask(false))
         };
         let reflected_weight = self.mirror + interface;
         let reflects = R::and(R::not(grazing), R::not(reflected_weight.is_black()));
@@ -165,7 +162,7 @@ impl<R: Real> PhongLanes<R> {
         let sum = R::select(reflects, sum + reflected_weight.luminance(), sum);
         let sum = R::select(refracts, sum + refracted_weight.luminance(), sum);
         DeltaRays {
-            reflected: reflect_z(wo),
+            reflected: reflect_z_lanes(wo),
             reflected_weight,
             reflects,
             refracted,
@@ -184,7 +181,7 @@ impl<R: Real> LaneKernel<R> for PhongLanes<R> {
     fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
         let zero = R::splat(0.0);
         let diffuse = self.diffuse.scale(R::splat(1.0 / PI));
-        let cos_alpha = reflect_z(upper(wi)).dot(upper(wo));
+        let cos_alpha = reflect_z_lanes(upper(wi)).dot(upper(wo));
         let glossy = R::and(R::not(self.specular.is_black()), cos_alpha.cmp_gt(zero));
         let f = if R::any(glossy) {
             let norm = (self.exponent + R::splat(2.0)) / R::splat(2.0 * PI);
@@ -226,7 +223,11 @@ impl<R: Real> LaneKernel<R> for PhongLanes<R> {
         let cosine_wi = warp::cosine_hemisphere_lanes(u2.0, u2.1);
         let wi = if R::any(R::and(take_smooth, R::not(cosine))) {
             let lobe = warp::phong_lobe_lanes(u2.0, u2.1, self.exponent);
-            V3::select(cosine, cosine_wi, Basis::from_normal(reflect_z(up)).to_world(lobe))
+            V3::select(
+                cosine,
+                cosine_wi,
+                Basis::from_normal(reflect_z_lanes(up)).to_world(lobe),
+            )
         } else {
             cosine_wi
         };

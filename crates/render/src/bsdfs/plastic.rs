@@ -274,7 +274,7 @@ impl<R: Real> LaneKernel<R> for PlasticLanes<'_, R> {
             let (reflected, _, reflects) = self.ggx.sample_reflection_lanes(wo, u2);
             (V3::select(glossy, reflected, cosine), reflects)
         } else {
-            (cosine, zero.cmp_le(zero))
+            (cosine, R::splat_mask(true))
         };
         let pdf = self.pdf(wo, wi);
         let weight = self.eval(wo, wi).scale(wi.z / pdf);

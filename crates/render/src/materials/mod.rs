@@ -105,12 +105,8 @@ impl Material {
     /// a normal map gives (ignored where the texel points below the surface). Only the
     /// outermost material's map counts: a blend's parts keep the surface's normal.
     pub fn shading_frame(&self, s: &SurfaceHit) -> Frame {
-        let b = self.shading_frame_lanes(s.ns.into(), s.dpdu.into(), s.uv.x, s.uv.y);
-        Frame {
-            s: b.s.into(),
-            t: b.t.into(),
-            n: b.n.into(),
-        }
+        self.shading_frame_lanes(s.ns.into(), s.dpdu.into(), s.uv.x, s.uv.y)
+            .into()
     }
 
     /// [`Material::shading_frame`] for lanes of any [`Real`] type whose surfaces share this
