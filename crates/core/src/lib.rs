@@ -15,6 +15,7 @@ pub mod ray;
 pub mod rng;
 pub mod samplers;
 pub mod simd;
+pub mod spectrum;
 pub mod spherical;
 pub mod transform;
 pub mod trig;

@@ -16,6 +16,7 @@ use super::{one_lane_methods, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSam
 use crate::optics::{clamp_unit, fresnel_conductor};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, Real, V3};
+use penumbra_core::spectrum::Spectrum;
 use penumbra_core::Rgb;
 
 /// How a metal's reflectance varies with the angle of incidence.
@@ -37,14 +38,14 @@ pub struct Conductor {
 }
 
 /// A conductor in lanes of any [`Real`] type: each lane its own metal, roughness and
-/// Fresnel form.
+/// Fresnel form; the index, absorption and tint per channel of the payload `S`.
 #[derive(Clone, Copy, Debug)]
-pub struct ConductorLanes<R: Real> {
-    pub eta: V3<R>,
-    pub k: V3<R>,
+pub struct ConductorLanes<R: Real, S: Spectrum<R> = V3<R>> {
+    pub eta: S,
+    pub k: S,
     /// Lanes with Schlick's Fresnel term (`eta` and `k` unused there).
     pub schlick: R::Mask,
-    pub specular: V3<R>,
+    pub specular: S,
     /// The microfacet distribution (any positive roughness where `rough` does not hold).
     pub ggx: Ggx<R>,
     pub rough: R::Mask,
@@ -74,21 +75,35 @@ impl Conductor {
     }
 }
 
-impl<R: Real> ConductorLanes<R> {
+impl<R: Real, S: Spectrum<R>> ConductorLanes<R, S> {
+    /// The same BSDF carrying the payload `T`, its colours (index, absorption, tint)
+    /// converted by `to` (as a spectral renderer turns RGB parameters into values at a
+    /// path's wavelengths).
+    #[inline(always)]
+    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(S) -> T) -> ConductorLanes<R, T> {
+        ConductorLanes {
+            eta: to(self.eta),
+            k: to(self.k),
+            schlick: self.schlick,
+            specular: to(self.specular),
+            ggx: self.ggx,
+            rough: self.rough,
+        }
+    }
+
     /// F(cos) per channel, tinted by `specular`.
     #[inline(always)]
-    pub fn fresnel(&self, cos: R) -> V3<R> {
-        let exact = V3::new(
-            fresnel_conductor(cos, self.eta.x, self.k.x),
-            fresnel_conductor(cos, self.eta.y, self.k.y),
-            fresnel_conductor(cos, self.eta.z, self.k.z),
-        )
-        .mul_each(self.specular);
+    pub fn fresnel(&self, cos: R) -> S {
+        let mut exact = self.eta;
+        for i in 0..S::CHANNELS {
+            *exact.channel_mut(i) = fresnel_conductor(cos, self.eta.channel(i), self.k.channel(i));
+        }
+        let exact = exact.mul_each(self.specular);
         let f0 = self.specular;
         let x = R::splat(1.0) - clamp_unit(cos);
         let x2 = x * x;
-        let schlick = f0 + (V3::splat(1.0) - f0).scale(x2 * x2 * x);
-        V3::select(self.schlick, schlick, exact)
+        let schlick = f0 + (S::splat(1.0) - f0).scale(x2 * x2 * x);
+        S::select(self.schlick, schlick, exact)
     }
 }
 
@@ -110,16 +125,16 @@ impl Gather for ConductorLanes<f32> {
     }
 }
 
-impl<R: Real> LaneKernel<R> for ConductorLanes<R> {
+impl<R: Real, S: Spectrum<R>> LaneKernel<R, S> for ConductorLanes<R, S> {
     /// f(wo, wi) of the rough part, without the cosine.
     #[inline(always)]
-    fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
+    fn eval(&self, wo: V3<R>, wi: V3<R>) -> S {
         if !R::any(self.rough) {
-            return V3::splat(0.0);
+            return S::splat(0.0);
         }
         let (m, ok) = Ggx::half_vector_lanes(wo, wi);
         let f = self.fresnel(wo.dot(m)).scale(self.ggx.reflection(wo, wi, m));
-        V3::select(R::and(ok, self.rough), f, V3::splat(0.0))
+        S::select(R::and(ok, self.rough), f, S::splat(0.0))
     }
 
     /// Density with which [`ConductorLanes::sample`] gives the rough direction `wi`.
@@ -135,7 +150,7 @@ impl<R: Real> LaneKernel<R> for ConductorLanes<R> {
     /// A reflected direction: mirror (delta) lanes where the metal is smooth, visible
     /// normals elsewhere.
     #[inline(always)]
-    fn sample(&self, wo: V3<R>, _u_lobe: R, u: (R, R)) -> LaneSample<R> {
+    fn sample(&self, wo: V3<R>, _u_lobe: R, u: (R, R)) -> LaneSample<R, S> {
         let (zero, one) = (R::splat(0.0), R::splat(1.0));
         let front = wo.z.cmp_gt(zero);
         penumbra_core::choose_lanes!(

@@ -15,6 +15,7 @@ use super::{
 use crate::optics::{fresnel_dielectric, refract, refract_lanes};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, Real, V3};
+use penumbra_core::spectrum::Spectrum;
 use penumbra_core::Rgb;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -39,10 +40,10 @@ pub enum Lobe {
 /// A dielectric in lanes of any [`Real`] type: each lane its own index, tints and
 /// roughness, all in one transport mode.
 #[derive(Clone, Copy, Debug)]
-pub struct DielectricLanes<R: Real> {
+pub struct DielectricLanes<R: Real, S: Spectrum<R> = V3<R>> {
     pub eta: R,
-    pub reflectance: V3<R>,
-    pub transmittance: V3<R>,
+    pub reflectance: S,
+    pub transmittance: S,
     /// The microfacet distribution (any positive roughness where `rough` does not hold).
     pub ggx: Ggx<R>,
     /// Lanes with a rough interface that is not index-matched.
@@ -51,7 +52,21 @@ pub struct DielectricLanes<R: Real> {
     pub importance: bool,
 }
 
-impl<R: Real> DielectricLanes<R> {
+impl<R: Real, S: Spectrum<R>> DielectricLanes<R, S> {
+    /// The same BSDF carrying the payload `T`, its tints converted by `to` (as a spectral
+    /// renderer turns RGB parameters into values at a path's wavelengths).
+    #[inline(always)]
+    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(S) -> T) -> DielectricLanes<R, T> {
+        DielectricLanes {
+            eta: self.eta,
+            reflectance: to(self.reflectance),
+            transmittance: to(self.transmittance),
+            ggx: self.ggx,
+            rough: self.rough,
+            importance: self.importance,
+        }
+    }
+
     /// The relative index η_t / η_i for light leaving towards the side of cosine `cos`.
     #[inline(always)]
     fn relative_eta(&self, cos: R) -> R {
@@ -103,7 +118,7 @@ impl<R: Real> DielectricLanes<R> {
     /// The smooth interface's sample: mirror reflection with probability F, else Snell
     /// refraction.
     #[inline(always)]
-    fn sample_smooth(&self, wo: V3<R>, u: R) -> LaneSample<R> {
+    fn sample_smooth(&self, wo: V3<R>, u: R) -> LaneSample<R, S> {
         let (zero, one) = (R::splat(0.0), R::splat(1.0));
         let eta_rel = self.relative_eta(wo.z);
         let f = fresnel_dielectric(wo.z.abs(), eta_rel);
@@ -112,7 +127,7 @@ impl<R: Real> DielectricLanes<R> {
         let reflect = u.cmp_lt(f);
         LaneSample {
             wi: V3::select(reflect, reflect_z_lanes(wo), refracted),
-            weight: V3::select(
+            weight: S::select(
                 reflect,
                 self.reflectance,
                 self.transmittance.scale(self.transmission_scale(eta_rel)),
@@ -127,7 +142,7 @@ impl<R: Real> DielectricLanes<R> {
     /// The rough interface's sample: a visible normal, then reflection with probability
     /// F(wo·m), else refraction through it.
     #[inline(always)]
-    fn sample_rough(&self, wo: V3<R>, u: R, u2: (R, R)) -> LaneSample<R> {
+    fn sample_rough(&self, wo: V3<R>, u: R, u2: (R, R)) -> LaneSample<R, S> {
         let (zero, one) = (R::splat(0.0), R::splat(1.0));
         let m = self.ggx.sample_visible(wo, u2);
         let c = wo.dot(m);
@@ -170,12 +185,12 @@ impl Gather for DielectricLanes<f32> {
     }
 }
 
-impl<R: Real> LaneKernel<R> for DielectricLanes<R> {
+impl<R: Real, S: Spectrum<R>> LaneKernel<R, S> for DielectricLanes<R, S> {
     /// Walter et al.'s eqs. 20 (reflection) and 21 (refraction); black where smooth.
     #[inline(always)]
-    fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
+    fn eval(&self, wo: V3<R>, wi: V3<R>) -> S {
         if !R::any(self.rough) {
-            return V3::splat(0.0);
+            return S::splat(0.0);
         }
         let (m, etap, f, ok) = self.half_vector(wo, wi);
         let (cos_o, cos_i) = (wo.z, wi.z);
@@ -185,8 +200,8 @@ impl<R: Real> LaneKernel<R> for DielectricLanes<R> {
         let denom = x * x * cos_i * cos_o;
         let ft = dg * (R::splat(1.0) - f) * (wi.dot(m) * wo.dot(m) / denom).abs();
         let transmitted = self.transmittance.scale(ft * self.transmission_scale(etap));
-        let f = V3::select(etap.cmp_eq(R::splat(1.0)), reflected, transmitted);
-        V3::select(R::and(ok, self.rough), f, V3::splat(0.0))
+        let f = S::select(etap.cmp_eq(R::splat(1.0)), reflected, transmitted);
+        S::select(R::and(ok, self.rough), f, S::splat(0.0))
     }
 
     #[inline(always)]
@@ -200,7 +215,7 @@ impl<R: Real> LaneKernel<R> for DielectricLanes<R> {
     }
 
     #[inline(always)]
-    fn sample(&self, wo: V3<R>, u_lobe: R, u: (R, R)) -> LaneSample<R> {
+    fn sample(&self, wo: V3<R>, u_lobe: R, u: (R, R)) -> LaneSample<R, S> {
         let mut s = penumbra_core::choose_lanes!(
             R,
             self.rough,

@@ -4,7 +4,8 @@
 
 use super::microfacet::Ggx;
 use super::*;
-use penumbra_core::lanes::{Lane8, F8};
+use penumbra_core::lanes::{Choose, Lane8, Real, F8};
+use penumbra_core::spectrum::{Sampled4, Spectrum};
 use penumbra_core::Pcg32;
 
 /// A direction on the sphere from two uniforms, some of them below the surface.
@@ -101,9 +102,7 @@ fn diffuse_lanes_equal_the_scalar_diffuse_bit_for_bit() {
     let mut rng = Pcg32::new(12, 5);
     let mut samples = 0;
     for _ in 0..ROUNDS {
-        let ds: [Diffuse; 8] = std::array::from_fn(|_| Diffuse {
-            reflectance: Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()),
-        });
+        let ds = diffuses(&mut rng);
         let lanes = Gather::gather::<F8>(&ds.map(|d| d.lanes(TransportMode::Radiance)));
         let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &ds[k] as &dyn BsdfModel);
         samples += compare(&mut rng, &scalar, &lanes, TransportMode::Radiance);
@@ -142,28 +141,10 @@ fn dielectric_lanes_equal_the_scalar_dielectric_bit_for_bit() {
 #[test]
 fn plastic_lanes_equal_the_scalar_plastic_bit_for_bit() {
     let mut rng = Pcg32::new(14, 5);
-    // Smooth and rough coatings of a few indices and roughnesses, tables made once.
-    let coats: Vec<(f32, Option<Ggx>, Coating)> = [(1.5, 0.0), (1.5, 0.1), (1.33, 0.3), (1.9, 0.05)]
-        .into_iter()
-        .map(|(eta, alpha)| {
-            let ggx = Ggx::new(alpha, alpha);
-            let coating = ggx.map_or(Coating::smooth(eta), |g| Coating::rough(eta, g));
-            (eta, ggx, coating)
-        })
-        .collect();
+    let coats = coatings();
     let mut samples = 0;
     for _ in 0..ROUNDS {
-        let ps: [Plastic; 8] = std::array::from_fn(|k| {
-            let (eta, alpha, coating) = &coats[(k + rng.next_below(4) as usize) % 4];
-            Plastic {
-                diffuse: Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()),
-                specular: Rgb::splat(rng.next_f32()),
-                eta: *eta,
-                coating,
-                specular_weight: rng.next_f32(),
-                alpha: *alpha,
-            }
-        });
+        let ps = plastics(&mut rng, &coats);
         let lanes = Gather::gather::<F8>(&ps.map(|p| p.lanes(TransportMode::Radiance)));
         let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &ps[k] as &dyn BsdfModel);
         samples += compare(&mut rng, &scalar, &lanes, TransportMode::Radiance);
@@ -177,31 +158,187 @@ fn phong_lanes_equal_the_scalar_phong_bit_for_bit() {
     for mode in [TransportMode::Radiance, TransportMode::Importance] {
         let mut samples = 0;
         for _ in 0..ROUNDS {
-            // Every mix of black and coloured diffuse, glossy, mirror and transmission
-            // parts, exponents from 0 (a flat lobe) up, indices on both sides of 1.
-            let ps: [PhongBsdf; 8] = std::array::from_fn(|k| {
-                let mut colour = |part: usize| {
-                    let c = Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 0.5;
-                    if (k >> part) & 1 == 0 && rng.next_below(2) == 0 {
-                        Rgb::BLACK
-                    } else {
-                        c
-                    }
-                };
-                let (diffuse, specular, mirror, transmission) = (colour(0), colour(1), colour(2), colour(3));
-                PhongBsdf {
-                    diffuse,
-                    specular,
-                    exponent: [0.0, 1.0, 20.0, 3.5][k % 4],
-                    mirror,
-                    transmission,
-                    eta: [1.5, 0.75, 1.0, 2.4][(k + 1) % 4],
-                }
-            });
+            let ps = phongs(&mut rng);
             let lanes = Gather::gather::<F8>(&ps.map(|p| p.lanes(mode)));
             let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &ps[k] as &dyn BsdfModel);
             samples += compare(&mut rng, &scalar, &lanes, mode);
         }
         assert!(samples > AT_LEAST, "{mode:?}: only {samples} samples existed");
+    }
+}
+
+fn diffuses(rng: &mut Pcg32) -> [Diffuse; 8] {
+    std::array::from_fn(|_| Diffuse {
+        reflectance: Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()),
+    })
+}
+
+/// Smooth and rough coatings of a few indices and roughnesses, tables made once.
+fn coatings() -> Vec<(f32, Option<Ggx>, Coating)> {
+    [(1.5, 0.0), (1.5, 0.1), (1.33, 0.3), (1.9, 0.05)]
+        .into_iter()
+        .map(|(eta, alpha)| {
+            let ggx = Ggx::new(alpha, alpha);
+            let coating = ggx.map_or(Coating::smooth(eta), |g| Coating::rough(eta, g));
+            (eta, ggx, coating)
+        })
+        .collect()
+}
+
+fn plastics<'a>(rng: &mut Pcg32, coats: &'a [(f32, Option<Ggx>, Coating)]) -> [Plastic<'a>; 8] {
+    std::array::from_fn(|k| {
+        let (eta, alpha, coating) = &coats[(k + rng.next_below(4) as usize) % 4];
+        Plastic {
+            diffuse: Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()),
+            specular: Rgb::splat(rng.next_f32()),
+            eta: *eta,
+            coating,
+            specular_weight: rng.next_f32(),
+            alpha: *alpha,
+        }
+    })
+}
+
+/// Every mix of black and coloured diffuse, glossy, mirror and transmission parts,
+/// exponents from 0 (a flat lobe) up, indices on both sides of 1.
+fn phongs(rng: &mut Pcg32) -> [PhongBsdf; 8] {
+    std::array::from_fn(|k| {
+        let mut colour = |part: usize| {
+            let c = Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 0.5;
+            if (k >> part) & 1 == 0 && rng.next_below(2) == 0 {
+                Rgb::BLACK
+            } else {
+                c
+            }
+        };
+        let (diffuse, specular, mirror, transmission) = (colour(0), colour(1), colour(2), colour(3));
+        PhongBsdf {
+            diffuse,
+            specular,
+            exponent: [0.0, 1.0, 20.0, 3.5][k % 4],
+            mirror,
+            transmission,
+            eta: [1.5, 0.75, 1.0, 2.4][(k + 1) % 4],
+        }
+    })
+}
+
+/// A four-channel payload for the test below: the RGB channels and the green one again
+/// (so that a kernel mixing up channels 0 and 3 shows), chosen between by the RGB
+/// luminance (so that Phong's lobe choice is RGB's).
+#[derive(Clone, Copy, Debug)]
+struct Rgbg(Sampled4<F8>);
+
+impl Rgbg {
+    fn of(c: V3<F8>) -> Self {
+        Rgbg(Sampled4([c.x, c.y, c.z, c.y]))
+    }
+}
+
+impl std::ops::Add for Rgbg {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        Rgbg(self.0 + o.0)
+    }
+}
+
+impl std::ops::Sub for Rgbg {
+    type Output = Self;
+    fn sub(self, o: Self) -> Self {
+        Rgbg(self.0 - o.0)
+    }
+}
+
+impl penumbra_core::lanes::Choose<F8> for Rgbg {
+    fn choose(mask: <F8 as Real>::Mask, a: Self, b: Self) -> Self {
+        Rgbg(Choose::choose(mask, a.0, b.0))
+    }
+}
+
+impl Spectrum<F8> for Rgbg {
+    const CHANNELS: usize = 4;
+    fn splat(v: f32) -> Self {
+        Rgbg(Sampled4::splat(v))
+    }
+    fn channel(&self, i: usize) -> F8 {
+        self.0 .0[i]
+    }
+    fn channel_mut(&mut self, i: usize) -> &mut F8 {
+        &mut self.0 .0[i]
+    }
+    fn brightness(self) -> F8 {
+        V3::new(self.0 .0[0], self.0 .0[1], self.0 .0[2]).luminance()
+    }
+}
+
+/// Kernel `rgb` and the same kernel carrying [`Rgbg`] (`four`) on random inputs: every
+/// direction, density, mask and relative index equal, and channel i of every value the
+/// RGB channel i (the fourth the green one).
+fn compare_payloads(rng: &mut Pcg32, rgb: &impl LaneKernel<F8>, four: &impl LaneKernel<F8, Rgbg>) {
+    let lanes3 = |rng: &mut Pcg32| lanes_of(std::array::from_fn(|_| direction(rng)));
+    let f8s = |rng: &mut Pcg32| f8(std::array::from_fn(|_| rng.next_f32()));
+    let (wo, wi, u_lobe, u) = (lanes3(rng), lanes3(rng), f8s(rng), (f8s(rng), f8s(rng)));
+    let same =
+        |a: F8, b: F8, what: &str| assert_eq!(a.to_array().map(f32::to_bits), b.to_array().map(f32::to_bits), "{what}");
+    let same_colour = |a: V3<F8>, b: Rgbg, what: &str| {
+        for i in 0..4 {
+            same(a.channel([0, 1, 2, 1][i]), b.channel(i), what);
+        }
+    };
+    same_colour(rgb.eval(wo, wi), four.eval(wo, wi), "eval");
+    same(rgb.pdf(wo, wi), four.pdf(wo, wi), "pdf");
+    let (a, b) = (rgb.sample(wo, u_lobe, u), four.sample(wo, u_lobe, u));
+    assert_eq!(F8::bits(a.ok), F8::bits(b.ok), "sample exists");
+    let ok = F8::bits(a.ok);
+    // Where no sample exists the values are unspecified: compare the others.
+    let keep = |v: F8| {
+        F8::from_array(std::array::from_fn(|k| {
+            if ok >> k & 1 != 0 {
+                v.to_array()[k]
+            } else {
+                0.0
+            }
+        }))
+    };
+    let keep3 = |v: V3<F8>| V3::new(keep(v.x), keep(v.y), keep(v.z));
+    let keep4 = |v: Rgbg| Rgbg(Sampled4(v.0 .0.map(keep)));
+    for (x, y, what) in [
+        (a.wi.x, b.wi.x, "wi.x"),
+        (a.wi.y, b.wi.y, "wi.y"),
+        (a.wi.z, b.wi.z, "wi.z"),
+        (a.pdf, b.pdf, "sample pdf"),
+        (a.eta, b.eta, "eta"),
+    ] {
+        same(keep(x), keep(y), what);
+    }
+    assert_eq!(F8::bits(a.delta) & ok, F8::bits(b.delta) & ok, "delta");
+    same_colour(keep3(a.weight), keep4(b.weight), "sample weight");
+}
+
+/// The spectral-ready payload: every BSDF kind's kernel, run carrying four channels
+/// instead of RGB's three, gives each channel the floats of the RGB run, and the same
+/// directions, densities and choices: a spectral renderer's four wavelengths are another
+/// payload of the same code, not a second copy of it.
+#[test]
+fn a_four_channel_payload_gives_each_channel_the_rgb_floats() {
+    let mut rng = Pcg32::new(16, 5);
+    let coats = coatings();
+    let to4 = Rgbg::of;
+    for _ in 0..ROUNDS / 4 {
+        let mode = if rng.next_below(2) == 0 {
+            TransportMode::Radiance
+        } else {
+            TransportMode::Importance
+        };
+        let k = Gather::gather::<F8>(&diffuses(&mut rng).map(|d| d.lanes(mode)));
+        compare_payloads(&mut rng, &k, &k.with_spectrum(to4));
+        let k = Gather::gather::<F8>(&conductors(&mut rng).map(|d| d.lanes(mode)));
+        compare_payloads(&mut rng, &k, &k.with_spectrum(to4));
+        let k = Gather::gather::<F8>(&dielectrics(&mut rng).map(|d| d.lanes(mode)));
+        compare_payloads(&mut rng, &k, &k.with_spectrum(to4));
+        let k = Gather::gather::<F8>(&plastics(&mut rng, &coats).map(|d| d.lanes(mode)));
+        compare_payloads(&mut rng, &k, &k.with_spectrum(to4));
+        let k = Gather::gather::<F8>(&phongs(&mut rng).map(|d| d.lanes(mode)));
+        compare_payloads(&mut rng, &k, &k.with_spectrum(to4));
     }
 }

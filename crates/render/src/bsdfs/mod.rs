@@ -37,6 +37,7 @@ pub use plastic::{Coating, Plastic, PlasticLanes};
 
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, Real, V3};
+use penumbra_core::spectrum::Spectrum;
 use penumbra_core::Rgb;
 
 /// Which quantity a path carries: radiance from the camera's side, or importance from the
@@ -80,11 +81,12 @@ impl BsdfSample {
     }
 }
 
-/// [`BsdfSample`] in lanes of any [`Real`] type, with the lanes where a sample exists.
+/// [`BsdfSample`] in lanes of any [`Real`] type, with the lanes where a sample exists;
+/// the weight in the path's payload `S` (RGB by default, see [`Spectrum`]).
 #[derive(Clone, Copy, Debug)]
-pub struct LaneSample<R: Real> {
+pub struct LaneSample<R: Real, S: Spectrum<R> = V3<R>> {
     pub wi: V3<R>,
-    pub weight: V3<R>,
+    pub weight: S,
     pub pdf: R,
     pub delta: R::Mask,
     pub eta: R,
@@ -105,12 +107,12 @@ impl LaneSample<f32> {
     }
 }
 
-impl<R: Real> penumbra_core::lanes::Choose<R> for LaneSample<R> {
+impl<R: Real, S: Spectrum<R>> penumbra_core::lanes::Choose<R> for LaneSample<R, S> {
     #[inline(always)]
     fn choose(mask: R::Mask, a: Self, b: Self) -> Self {
         LaneSample {
             wi: V3::select(mask, a.wi, b.wi),
-            weight: V3::select(mask, a.weight, b.weight),
+            weight: S::select(mask, a.weight, b.weight),
             pdf: R::select(mask, a.pdf, b.pdf),
             delta: R::select_mask(mask, a.delta, b.delta),
             eta: R::select(mask, a.eta, b.eta),
@@ -121,14 +123,16 @@ impl<R: Real> penumbra_core::lanes::Choose<R> for LaneSample<R> {
 
 /// A BSDF kind's arithmetic written over the lane type `R` (f32 for one path, eight lanes
 /// for eight): the non-delta value and density, and a sample, per lane, in the transport
-/// mode the lanes were made for.
-pub trait LaneKernel<R: Real> {
+/// mode the lanes were made for. Values are in the path's payload `S`: the RGB renderer's
+/// three channels by default, four sampled wavelengths for spectral rendering, by the same
+/// code ([`Spectrum`]).
+pub trait LaneKernel<R: Real, S: Spectrum<R> = V3<R>> {
     /// f(wo, wi) without the cosine.
-    fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R>;
+    fn eval(&self, wo: V3<R>, wi: V3<R>) -> S;
     /// Density with which `sample` gives the non-delta direction `wi`.
     fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R;
     /// A direction from the whole BSDF: `u_lobe` chooses among lobes, `u` within one.
-    fn sample(&self, wo: V3<R>, u_lobe: R, u: (R, R)) -> LaneSample<R>;
+    fn sample(&self, wo: V3<R>, u_lobe: R, u: (R, R)) -> LaneSample<R, S>;
 }
 
 /// A kind's one-lane instance that eight of make an eight-lane one (the wavefront's

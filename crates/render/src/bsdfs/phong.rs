@@ -17,6 +17,7 @@ use crate::optics::{fresnel_dielectric, refract_lanes};
 use glam::{Vec2, Vec3};
 use penumbra_core::frame::Basis;
 use penumbra_core::lanes::{Lane8, Real, V3};
+use penumbra_core::spectrum::Spectrum;
 use penumbra_core::{warp, Rgb};
 use std::f32::consts::{FRAC_1_PI, PI};
 
@@ -33,12 +34,12 @@ pub struct PhongBsdf {
 
 /// The Phong BSDF in lanes of any [`Real`] type, for one transport mode.
 #[derive(Clone, Copy, Debug)]
-pub struct PhongLanes<R: Real> {
-    pub diffuse: V3<R>,
-    pub specular: V3<R>,
+pub struct PhongLanes<R: Real, S: Spectrum<R> = V3<R>> {
+    pub diffuse: S,
+    pub specular: S,
     pub exponent: R,
-    pub mirror: V3<R>,
-    pub transmission: V3<R>,
+    pub mirror: S,
+    pub transmission: S,
     pub eta: R,
     /// Radiance (refraction into a denser medium scaled by 1/η²), else importance.
     pub radiance: bool,
@@ -47,16 +48,17 @@ pub struct PhongLanes<R: Real> {
 /// The delta rays seen from `wo`: the reflection (the mirror's and the interface's, one
 /// direction, weights added) and the refraction, each with where it exists, in the order
 /// [`SpecularRays`] lists them.
-struct DeltaRays<R: Real> {
+struct DeltaRays<R: Real, S: Spectrum<R>> {
     reflected: V3<R>,
-    reflected_weight: V3<R>,
+    reflected_weight: S,
     reflects: R::Mask,
     refracted: V3<R>,
-    refracted_weight: V3<R>,
+    refracted_weight: S,
     refracts: R::Mask,
     /// The relative index of refraction crossed by the refraction.
     eta: R,
-    /// The sum of the rays' luminances, as `Iterator::sum` adds them (from -0).
+    /// The sum of the rays' brightnesses (luminances in RGB), as `Iterator::sum` adds them
+    /// (from -0).
     luminance: R,
 }
 
@@ -99,18 +101,33 @@ impl Gather for PhongLanes<f32> {
     }
 }
 
-impl<R: Real> PhongLanes<R> {
+impl<R: Real, S: Spectrum<R>> PhongLanes<R, S> {
+    /// The same BSDF carrying the payload `T`, its colours converted by `to` (as a
+    /// spectral renderer turns RGB parameters into values at a path's wavelengths).
+    #[inline(always)]
+    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(S) -> T) -> PhongLanes<R, T> {
+        PhongLanes {
+            diffuse: to(self.diffuse),
+            specular: to(self.specular),
+            exponent: self.exponent,
+            mirror: to(self.mirror),
+            transmission: to(self.transmission),
+            eta: self.eta,
+            radiance: self.radiance,
+        }
+    }
+
     /// Luminance of the diffuse and glossy albedos together.
     #[inline(always)]
     fn smooth_albedo(&self) -> R {
         let zero = R::splat(0.0);
-        self.diffuse.luminance().max(zero) + self.specular.luminance().max(zero)
+        self.diffuse.brightness().max(zero) + self.specular.brightness().max(zero)
     }
 
     /// The share of the cosine hemisphere in the smooth part's sampling.
     #[inline(always)]
     fn diffuse_share(&self, smooth: R) -> R {
-        self.diffuse.luminance().max(R::splat(0.0)) / smooth
+        self.diffuse.brightness().max(R::splat(0.0)) / smooth
     }
 
     /// Density of the smooth part's sampling, both directions above.
@@ -135,7 +152,7 @@ impl<R: Real> PhongLanes<R> {
     /// Fresnel-weighted reflection and refraction, radiance crossing into a denser medium
     /// scaled by 1/η².
     #[inline(always)]
-    fn delta_rays(&self, wo: V3<R>) -> DeltaRays<R> {
+    fn delta_rays(&self, wo: V3<R>) -> DeltaRays<R, S> {
         let (zero, one) = (R::splat(0.0), R::splat(1.0));
         let grazing = wo.z.cmp_eq(zero);
         let transmits = R::not(self.transmission.is_black());
@@ -151,16 +168,16 @@ impl<R: Real> PhongLanes<R> {
                 R::and(R::not(grazing), transmits),
                 R::and(R::and(f.cmp_lt(one), exists), R::not(refracted_weight.is_black())),
             );
-            let interface = V3::select(transmits, self.transmission.scale(f), V3::splat(0.0));
+            let interface = S::select(transmits, self.transmission.scale(f), S::splat(0.0));
             (interface, refracted, refracted_weight, refracts)
         } else {
-            (V3::splat(0.0), wo, V3::splat(0.0), R::splat_mask(false))
+            (S::splat(0.0), wo, S::splat(0.0), R::splat_mask(false))
         };
         let reflected_weight = self.mirror + interface;
         let reflects = R::and(R::not(grazing), R::not(reflected_weight.is_black()));
         let sum = R::splat(-0.0);
-        let sum = R::select(reflects, sum + reflected_weight.luminance(), sum);
-        let sum = R::select(refracts, sum + refracted_weight.luminance(), sum);
+        let sum = R::select(reflects, sum + reflected_weight.brightness(), sum);
+        let sum = R::select(refracts, sum + refracted_weight.brightness(), sum);
         DeltaRays {
             reflected: reflect_z_lanes(wo),
             reflected_weight,
@@ -174,11 +191,11 @@ impl<R: Real> PhongLanes<R> {
     }
 }
 
-impl<R: Real> LaneKernel<R> for PhongLanes<R> {
+impl<R: Real, S: Spectrum<R>> LaneKernel<R, S> for PhongLanes<R, S> {
     /// Diffuse plus the Phong lobe about the mirror direction, where both directions are
     /// on one side (the lobe zero outside its hemisphere, also for exponent 0).
     #[inline(always)]
-    fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
+    fn eval(&self, wo: V3<R>, wi: V3<R>) -> S {
         let zero = R::splat(0.0);
         let diffuse = self.diffuse.scale(R::splat(1.0 / PI));
         let cos_alpha = reflect_z_lanes(upper(wi)).dot(upper(wo));
@@ -186,11 +203,11 @@ impl<R: Real> LaneKernel<R> for PhongLanes<R> {
         let f = if R::any(glossy) {
             let norm = (self.exponent + R::splat(2.0)) / R::splat(2.0 * PI);
             let lobe = self.specular.scale(norm * cos_alpha.powf(self.exponent));
-            V3::select(glossy, diffuse + lobe, diffuse)
+            S::select(glossy, diffuse + lobe, diffuse)
         } else {
             diffuse
         };
-        V3::select((wo.z * wi.z).cmp_gt(zero), f, V3::splat(0.0))
+        S::select((wo.z * wi.z).cmp_gt(zero), f, S::splat(0.0))
     }
 
     #[inline(always)]
@@ -207,7 +224,7 @@ impl<R: Real> LaneKernel<R> for PhongLanes<R> {
     /// the cosine hemisphere or the lobe (u rescaled); a delta ray by walking the rays'
     /// luminances (rounding may leave u at the very end: then the last ray).
     #[inline(always)]
-    fn sample(&self, wo: V3<R>, u: R, u2: (R, R)) -> LaneSample<R> {
+    fn sample(&self, wo: V3<R>, u: R, u2: (R, R)) -> LaneSample<R, S> {
         let (zero, one) = (R::splat(0.0), R::splat(1.0));
         let smooth = self.smooth_albedo();
         let rays = self.delta_rays(wo);
@@ -239,18 +256,18 @@ impl<R: Real> LaneKernel<R> for PhongLanes<R> {
 
         // A delta ray.
         let (reflected_luminance, refracted_luminance) =
-            (rays.reflected_weight.luminance(), rays.refracted_weight.luminance());
+            (rays.reflected_weight.brightness(), rays.refracted_weight.brightness());
         let past = x - smooth - reflected_luminance;
         let reflect = R::and(rays.reflects, R::or(past.cmp_lt(zero), R::not(rays.refracts)));
         let chosen = R::or(reflect, rays.refracts);
         let delta_wi = V3::select(reflect, rays.reflected, rays.refracted);
-        let weight = V3::select(reflect, rays.reflected_weight, rays.refracted_weight);
+        let weight = S::select(reflect, rays.reflected_weight, rays.refracted_weight);
         let p = R::select(reflect, reflected_luminance, refracted_luminance) / total;
         let crossed = R::not((wo.z * delta_wi.z).cmp_gt(zero));
 
         LaneSample {
             wi: V3::select(take_smooth, wi, delta_wi),
-            weight: V3::select(take_smooth, smooth_weight, weight.scale(one / p)),
+            weight: S::select(take_smooth, smooth_weight, weight.scale(one / p)),
             pdf: R::select(take_smooth, smooth_pdf, p),
             delta: R::not(take_smooth),
             eta: R::select(R::or(take_smooth, R::not(crossed)), one, rays.eta),

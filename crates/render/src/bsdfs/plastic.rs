@@ -19,6 +19,7 @@ use super::{
 use crate::optics::fresnel_dielectric;
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, Real, V3};
+use penumbra_core::spectrum::Spectrum;
 use penumbra_core::{warp, Rgb};
 use std::f32::consts::FRAC_1_PI;
 
@@ -141,9 +142,9 @@ pub struct Plastic<'a> {
 /// Plastic in lanes of any [`Real`] type (up to eight), each lane its own material and
 /// coating table.
 #[derive(Clone, Copy, Debug)]
-pub struct PlasticLanes<'a, R: Real> {
-    pub diffuse: V3<R>,
-    pub specular: V3<R>,
+pub struct PlasticLanes<'a, R: Real, S: Spectrum<R> = V3<R>> {
+    pub diffuse: S,
+    pub specular: S,
     pub eta: R,
     /// F_dr,int of each lane's coating.
     pub internal_reflectance: R,
@@ -198,7 +199,24 @@ impl<'a> Gather for PlasticLanes<'a, f32> {
     }
 }
 
-impl<R: Real> PlasticLanes<'_, R> {
+impl<'a, R: Real, S: Spectrum<R>> PlasticLanes<'a, R, S> {
+    /// The same BSDF carrying the payload `T`, its colours converted by `to` (as a
+    /// spectral renderer turns RGB parameters into values at a path's wavelengths).
+    #[inline(always)]
+    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(S) -> T) -> PlasticLanes<'a, R, T> {
+        PlasticLanes {
+            diffuse: to(self.diffuse),
+            specular: to(self.specular),
+            eta: self.eta,
+            internal_reflectance: self.internal_reflectance,
+            tables: self.tables,
+            tabulated: self.tabulated,
+            specular_weight: self.specular_weight,
+            ggx: self.ggx,
+            rough: self.rough,
+        }
+    }
+
     /// The share of light arriving at cosine `cos` that enters the coating (or leaves it
     /// towards `cos`): the lane's table linearly interpolated, or 1 - F.
     #[inline(always)]
@@ -222,16 +240,16 @@ impl<R: Real> PlasticLanes<'_, R> {
     }
 
     #[inline(always)]
-    fn diffuse_part(&self, cos_o: R, cos_i: R) -> V3<R> {
+    fn diffuse_part(&self, cos_o: R, cos_i: R) -> S {
         let t = self.transmittance(cos_i) * self.transmittance(cos_o);
         let scale = t * R::splat(FRAC_1_PI) / (self.eta * self.eta * (R::splat(1.0) - self.internal_reflectance));
         self.diffuse.scale(scale)
     }
 }
 
-impl<R: Real> LaneKernel<R> for PlasticLanes<'_, R> {
+impl<R: Real, S: Spectrum<R>> LaneKernel<R, S> for PlasticLanes<'_, R, S> {
     #[inline(always)]
-    fn eval(&self, wo: V3<R>, wi: V3<R>) -> V3<R> {
+    fn eval(&self, wo: V3<R>, wi: V3<R>) -> S {
         let zero = R::splat(0.0);
         let f = self.diffuse_part(wo.z, wi.z);
         let f = if R::any(self.rough) {
@@ -239,12 +257,12 @@ impl<R: Real> LaneKernel<R> for PlasticLanes<'_, R> {
             let glossy = self
                 .specular
                 .scale(fresnel_dielectric(wo.dot(m), self.eta) * self.ggx.reflection(wo, wi, m));
-            V3::select(R::and(self.rough, ok), f + glossy, f)
+            S::select(R::and(self.rough, ok), f + glossy, f)
         } else {
             f
         };
         let front = R::not(R::or(wo.z.cmp_le(zero), wi.z.cmp_le(zero)));
-        V3::select(front, f, V3::splat(0.0))
+        S::select(front, f, S::splat(0.0))
     }
 
     #[inline(always)]
@@ -263,7 +281,7 @@ impl<R: Real> LaneKernel<R> for PlasticLanes<'_, R> {
     }
 
     #[inline(always)]
-    fn sample(&self, wo: V3<R>, u: R, u2: (R, R)) -> LaneSample<R> {
+    fn sample(&self, wo: V3<R>, u: R, u2: (R, R)) -> LaneSample<R, S> {
         let (zero, one) = (R::splat(0.0), R::splat(1.0));
         let ps = self.specular_probability(wo.z);
         let specular = u.cmp_lt(ps);
@@ -284,7 +302,7 @@ impl<R: Real> LaneKernel<R> for PlasticLanes<'_, R> {
         );
         LaneSample {
             wi: V3::select(mirror, V3::new(-wo.x, -wo.y, wo.z), wi),
-            weight: V3::select(
+            weight: S::select(
                 mirror,
                 self.specular.scale(fresnel_dielectric(wo.z, self.eta) / ps),
                 weight,

@@ -172,9 +172,7 @@ fn light_sample<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, light: &TriangleLig
     // BSDF sees: mirrored where two-sided from behind), the MIS weight.
     let l = sh.frame.to_local(wi);
     let (bwo, bl) = (sh.bsdf_dir(sh.wo), sh.bsdf_dir(l));
-    let bsdf = DiffuseLanes {
-        reflectance: h.reflectance,
-    };
+    let bsdf = DiffuseLanes::new(h.reflectance);
     let f_cos = bsdf.eval(bwo, bl).scale(l.z.abs());
     let origin = sh.origin_towards(wi);
     let target = origin + wi.scale(dist);
@@ -198,9 +196,7 @@ fn light_sample<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, light: &TriangleLig
 #[inline(always)]
 fn continuation<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, u: (R, R)) -> ContinuationOut<R> {
     // `Diffuse::sample` on the mirrored side, then flipped back.
-    let bsdf = DiffuseLanes {
-        reflectance: h.reflectance,
-    };
+    let bsdf = DiffuseLanes::new(h.reflectance);
     let s = bsdf.sample(sh.bsdf_dir(sh.wo), R::splat(0.0), u);
     let local = sh.bsdf_dir(s.wi);
     let wi = sh.frame.to_world(local);
