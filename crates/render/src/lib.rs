@@ -14,6 +14,8 @@ pub mod mis;
 pub mod optics;
 pub mod phase;
 mod scene;
+#[cfg(test)]
+mod test_payload;
 pub mod texture;
 
 pub use cameras::Camera;

@@ -4,7 +4,8 @@
 
 use super::microfacet::Ggx;
 use super::*;
-use penumbra_core::lanes::{Choose, Lane8, Real, F8};
+use crate::test_payload::Rgbg;
+use penumbra_core::lanes::{Lane8, F8};
 use penumbra_core::spectrum::{Sampled4, Spectrum};
 use penumbra_core::Pcg32;
 
@@ -223,54 +224,6 @@ fn phongs(rng: &mut Pcg32) -> [PhongBsdf; 8] {
     })
 }
 
-/// A four-channel payload for the test below: the RGB channels and the green one again
-/// (so that a kernel mixing up channels 0 and 3 shows), chosen between by the RGB
-/// luminance (so that Phong's lobe choice is RGB's).
-#[derive(Clone, Copy, Debug)]
-struct Rgbg(Sampled4<F8>);
-
-impl Rgbg {
-    fn of(c: V3<F8>) -> Self {
-        Rgbg(Sampled4([c.x, c.y, c.z, c.y]))
-    }
-}
-
-impl std::ops::Add for Rgbg {
-    type Output = Self;
-    fn add(self, o: Self) -> Self {
-        Rgbg(self.0 + o.0)
-    }
-}
-
-impl std::ops::Sub for Rgbg {
-    type Output = Self;
-    fn sub(self, o: Self) -> Self {
-        Rgbg(self.0 - o.0)
-    }
-}
-
-impl penumbra_core::lanes::Choose<F8> for Rgbg {
-    fn choose(mask: <F8 as Real>::Mask, a: Self, b: Self) -> Self {
-        Rgbg(Choose::choose(mask, a.0, b.0))
-    }
-}
-
-impl Spectrum<F8> for Rgbg {
-    const CHANNELS: usize = 4;
-    fn splat(v: f32) -> Self {
-        Rgbg(Sampled4::splat(v))
-    }
-    fn channel(&self, i: usize) -> F8 {
-        self.0 .0[i]
-    }
-    fn channel_mut(&mut self, i: usize) -> &mut F8 {
-        &mut self.0 .0[i]
-    }
-    fn brightness(self) -> F8 {
-        V3::new(self.0 .0[0], self.0 .0[1], self.0 .0[2]).luminance()
-    }
-}
-
 /// Kernel `rgb` and the same kernel carrying [`Rgbg`] (`four`) on random inputs: every
 /// direction, density, mask and relative index equal, and channel i of every value the
 /// RGB channel i (the fourth the green one).
@@ -282,7 +235,7 @@ fn compare_payloads(rng: &mut Pcg32, rgb: &impl LaneKernel<F8>, four: &impl Lane
         |a: F8, b: F8, what: &str| assert_eq!(a.to_array().map(f32::to_bits), b.to_array().map(f32::to_bits), "{what}");
     let same_colour = |a: V3<F8>, b: Rgbg, what: &str| {
         for i in 0..4 {
-            same(a.channel([0, 1, 2, 1][i]), b.channel(i), what);
+            same(a.channel(crate::test_payload::RGB_CHANNEL[i]), b.channel(i), what);
         }
     };
     same_colour(rgb.eval(wo, wi), four.eval(wo, wi), "eval");

@@ -10,6 +10,7 @@ use super::{
 };
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, Real, V3};
+use penumbra_core::spectrum::Spectrum;
 use penumbra_core::{Ray, Rgb};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -31,15 +32,27 @@ impl Default for Directional {
 
 /// A directional light in lanes of any [`Real`] type.
 #[derive(Clone, Copy, Debug)]
-pub struct DirectionalLanes<R: Real> {
+pub struct DirectionalLanes<R: Real, S: Spectrum<R> = V3<R>> {
     pub direction: V3<R>,
-    pub irradiance: V3<R>,
+    pub irradiance: S,
 }
 
-impl<R: Real> LightKernel<R> for DirectionalLanes<R> {
+impl<R: Real, S: Spectrum<R>> DirectionalLanes<R, S> {
+    /// The same light carrying the payload `T`, its colour converted by `to` (as a
+    /// spectral renderer turns RGB parameters into values at a path's wavelengths).
+    #[inline(always)]
+    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(S) -> T) -> DirectionalLanes<R, T> {
+        DirectionalLanes {
+            direction: self.direction,
+            irradiance: to(self.irradiance),
+        }
+    }
+}
+
+impl<R: Real, S: Spectrum<R>> LightKernel<R, S> for DirectionalLanes<R, S> {
     /// The same direction and irradiance wherever the point (none where it is black).
     #[inline(always)]
-    fn sample_li(&self, _p: V3<R>, _u: (R, R)) -> LaneLightSample<R> {
+    fn sample_li(&self, _p: V3<R>, _u: (R, R)) -> LaneLightSample<R, S> {
         LaneLightSample {
             wi: -self.direction,
             li: self.irradiance,

@@ -14,6 +14,7 @@ use crate::texture::TextureImage;
 use glam::{Mat3, Vec2, Vec3};
 use penumbra_core::frame::Basis;
 use penumbra_core::lanes::{Lane8, Real, V3};
+use penumbra_core::spectrum::Spectrum;
 use penumbra_core::{trig, warp, Distribution2D, Ray, Rgb};
 use std::f32::consts::PI;
 
@@ -242,7 +243,22 @@ pub struct EnvironmentLanes<'a> {
 
 impl<R: Real> LightKernel<R> for EnvironmentLanes<'_> {
     #[inline(always)]
-    fn sample_li(&self, _p: V3<R>, u: (R, R)) -> LaneLightSample<R> {
+    fn sample_li(&self, p: V3<R>, u: (R, R)) -> LaneLightSample<R> {
+        self.sample_li_with(p, u, |rgb| rgb)
+    }
+}
+
+impl EnvironmentLanes<'_> {
+    /// [`LightKernel::sample_li`] carrying the payload `S`: the map's RGB radiance at each
+    /// lane's direction converted by `to` (as a spectral renderer turns it into values at
+    /// a path's wavelengths); the directions and densities do not depend on the payload.
+    #[inline(always)]
+    pub fn sample_li_with<R: Real, S: Spectrum<R>>(
+        &self,
+        _p: V3<R>,
+        u: (R, R),
+        to: impl Fn(V3<R>) -> S,
+    ) -> LaneLightSample<R, S> {
         let env = self.env;
         let (wi, le, pdf) = match &env.image {
             None => (
@@ -267,7 +283,7 @@ impl<R: Real> LightKernel<R> for EnvironmentLanes<'_> {
         };
         LaneLightSample {
             wi,
-            li: le,
+            li: to(le),
             dist: R::splat(f32::INFINITY),
             pdf,
             ok: R::and(pdf.cmp_gt(R::splat(0.0)), pdf.is_finite()),

@@ -6,13 +6,15 @@
 
 use super::LightSample;
 use penumbra_core::lanes::{Lane8, Real, V3};
+use penumbra_core::spectrum::Spectrum;
 
 /// [`LightSample`] in lanes of any [`Real`] type, with the lanes where a sample exists
-/// (whether it is a delta sample is the kind's, not the lane's).
+/// (whether it is a delta sample is the kind's, not the lane's); the light in the path's
+/// payload `S` (RGB by default, see [`Spectrum`]).
 #[derive(Clone, Copy, Debug)]
-pub struct LaneLightSample<R: Real> {
+pub struct LaneLightSample<R: Real, S: Spectrum<R> = V3<R>> {
     pub wi: V3<R>,
-    pub li: V3<R>,
+    pub li: S,
     pub dist: R,
     pub pdf: R,
     pub ok: R::Mask,
@@ -34,8 +36,8 @@ impl LaneLightSample<f32> {
 
 /// A light kind's `sample_li` over the lane type `R`: light arriving at the points `p`,
 /// each lane's point on the light (for lights with an extent) drawn from `u`.
-pub trait LightKernel<R: Real> {
-    fn sample_li(&self, p: V3<R>, u: (R, R)) -> LaneLightSample<R>;
+pub trait LightKernel<R: Real, S: Spectrum<R> = V3<R>> {
+    fn sample_li(&self, p: V3<R>, u: (R, R)) -> LaneLightSample<R, S>;
 }
 
 /// A kind's one-lane kernel that eight of make an eight-lane one.
@@ -47,7 +49,11 @@ pub trait LightGather: Copy {
 /// Light from a point source of `intensity` at `position`, seen from `p`, per lane:
 /// inverse-square falloff; none where `p` is the source or the intensity is black.
 #[inline(always)]
-pub(crate) fn delta_sample_lanes<R: Real>(p: V3<R>, position: V3<R>, intensity: V3<R>) -> LaneLightSample<R> {
+pub(crate) fn delta_sample_lanes<R: Real, S: Spectrum<R>>(
+    p: V3<R>,
+    position: V3<R>,
+    intensity: S,
+) -> LaneLightSample<R, S> {
     let zero = R::splat(0.0);
     let to_light = position - p;
     let dist2 = to_light.dot(to_light);

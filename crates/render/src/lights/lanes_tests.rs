@@ -4,9 +4,11 @@
 //! at the source, directions outside a spot's cone).
 
 use super::*;
+use crate::test_payload::{Rgbg, RGB_CHANNEL};
 use crate::texture::TextureImage;
 use glam::Mat3;
 use penumbra_core::lanes::{Lane8, F8, V3};
+use penumbra_core::spectrum::Spectrum;
 use penumbra_core::Pcg32;
 
 fn bits(v: Vec3) -> [u32; 3] {
@@ -141,5 +143,70 @@ fn environment_lanes_give_the_scalar_bits() {
             samples += compare(&mut rng, &lanes, None, |_, _, u| env.sample_li(u));
         }
         assert!(samples > 30_000, "{samples} samples of 32,000");
+    }
+}
+
+/// `rgb` and the same light carrying the four-channel test payload (`four`) at eight
+/// random points: the same directions, distances, densities and lanes with a sample,
+/// and channel i of the light the RGB channel it holds.
+fn compare_payloads(
+    rng: &mut Pcg32,
+    rgb: &impl LightKernel<F8>,
+    four: impl Fn(V3<F8>, (F8, F8)) -> LaneLightSample<F8, Rgbg>,
+) {
+    let p = V3::from_lanes(&std::array::from_fn(|_| point(rng)));
+    let u = (
+        F8::from_array(std::array::from_fn(|_| rng.next_f32())),
+        F8::from_array(std::array::from_fn(|_| rng.next_f32())),
+    );
+    let (a, b) = (rgb.sample_li(p, u), four(p, u));
+    let ok = F8::bits(a.ok);
+    assert_eq!(ok, F8::bits(b.ok), "lanes with a sample");
+    for (x, y, what) in [
+        (a.wi.x, b.wi.x, "wi.x"),
+        (a.wi.y, b.wi.y, "wi.y"),
+        (a.wi.z, b.wi.z, "wi.z"),
+        (a.dist, b.dist, "dist"),
+        (a.pdf, b.pdf, "pdf"),
+    ] {
+        let (x, y) = (x.to_array(), y.to_array());
+        for k in (0..8).filter(|k| ok >> k & 1 != 0) {
+            assert_eq!(x[k].to_bits(), y[k].to_bits(), "{what}, lane {k}");
+        }
+    }
+    for i in 0..4 {
+        let (x, y) = (a.li.channel(RGB_CHANNEL[i]).to_array(), b.li.channel(i).to_array());
+        for k in (0..8).filter(|k| ok >> k & 1 != 0) {
+            assert_eq!(x[k].to_bits(), y[k].to_bits(), "li channel {i}, lane {k}");
+        }
+    }
+}
+
+/// The spectral-ready payload for lights: each kind's kernel carrying four channels
+/// gives each channel the floats of the RGB run (point, spot, directional by their
+/// converted intensities; the environment by its looked-up radiance converted).
+#[test]
+fn a_four_channel_payload_gives_each_channel_the_rgb_light() {
+    let mut rng = Pcg32::new(12, 3);
+    let env = Environment::constant(Rgb::new(0.2, 0.3, 0.4));
+    for _ in 0..500 {
+        let points: [Point; 8] = std::array::from_fn(|k| Point {
+            position: point(&mut rng),
+            intensity: colour(&mut rng, k),
+        });
+        let k = PointLanes::gather::<F8>(&points.each_ref().map(|l| l.lanes()));
+        compare_payloads(&mut rng, &k, |p, u| k.with_spectrum(Rgbg::of).sample_li(p, u));
+        let spots: [Spot; 8] =
+            std::array::from_fn(|k| Spot::new(point(&mut rng), point(&mut rng), colour(&mut rng, k), 60.0, 40.0));
+        let k = SpotLanes::gather::<F8>(&spots.each_ref().map(|l| l.lanes()));
+        compare_payloads(&mut rng, &k, |p, u| k.with_spectrum(Rgbg::of).sample_li(p, u));
+        let suns: [Directional; 8] = std::array::from_fn(|k| Directional {
+            direction: point(&mut rng).normalize(),
+            irradiance: colour(&mut rng, k),
+        });
+        let k = DirectionalLanes::gather::<F8>(&suns.each_ref().map(|l| l.lanes()));
+        compare_payloads(&mut rng, &k, |p, u| k.with_spectrum(Rgbg::of).sample_li(p, u));
+        let k = EnvironmentLanes::gather::<F8>(&[env.lanes(); 8]);
+        compare_payloads(&mut rng, &k, |p, u| k.sample_li_with(p, u, Rgbg::of));
     }
 }

@@ -8,6 +8,7 @@ use super::lanes::{delta_sample_lanes, LaneLightSample, LightGather, LightKernel
 use super::{delta_light_answers, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, Real, V3};
+use penumbra_core::spectrum::Spectrum;
 use penumbra_core::{warp, Ray, Rgb};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -28,14 +29,26 @@ impl Default for Point {
 
 /// A point light in lanes of any [`Real`] type.
 #[derive(Clone, Copy, Debug)]
-pub struct PointLanes<R: Real> {
+pub struct PointLanes<R: Real, S: Spectrum<R> = V3<R>> {
     pub position: V3<R>,
-    pub intensity: V3<R>,
+    pub intensity: S,
 }
 
-impl<R: Real> LightKernel<R> for PointLanes<R> {
+impl<R: Real, S: Spectrum<R>> PointLanes<R, S> {
+    /// The same light carrying the payload `T`, its colour converted by `to` (as a
+    /// spectral renderer turns RGB parameters into values at a path's wavelengths).
     #[inline(always)]
-    fn sample_li(&self, p: V3<R>, _u: (R, R)) -> LaneLightSample<R> {
+    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(S) -> T) -> PointLanes<R, T> {
+        PointLanes {
+            position: self.position,
+            intensity: to(self.intensity),
+        }
+    }
+}
+
+impl<R: Real, S: Spectrum<R>> LightKernel<R, S> for PointLanes<R, S> {
+    #[inline(always)]
+    fn sample_li(&self, p: V3<R>, _u: (R, R)) -> LaneLightSample<R, S> {
         delta_sample_lanes(p, self.position, self.intensity)
     }
 }

@@ -10,6 +10,7 @@ use super::lanes::{delta_sample_lanes, LaneLightSample, LightGather, LightKernel
 use super::{delta_light_answers, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, Real, V3};
+use penumbra_core::spectrum::Spectrum;
 use penumbra_core::{warp, Frame, Ray, Rgb};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -96,15 +97,28 @@ impl Spot {
 
 /// A spot light in lanes of any [`Real`] type.
 #[derive(Clone, Copy, Debug)]
-pub struct SpotLanes<R: Real> {
+pub struct SpotLanes<R: Real, S: Spectrum<R> = V3<R>> {
     pub position: V3<R>,
     pub direction: V3<R>,
-    pub intensity: V3<R>,
+    pub intensity: S,
     pub cos_total: R,
     pub cos_falloff_start: R,
 }
 
-impl<R: Real> SpotLanes<R> {
+impl<R: Real, S: Spectrum<R>> SpotLanes<R, S> {
+    /// The same light carrying the payload `T`, its colour converted by `to` (as a
+    /// spectral renderer turns RGB parameters into values at a path's wavelengths).
+    #[inline(always)]
+    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(S) -> T) -> SpotLanes<R, T> {
+        SpotLanes {
+            position: self.position,
+            direction: self.direction,
+            intensity: to(self.intensity),
+            cos_total: self.cos_total,
+            cos_falloff_start: self.cos_falloff_start,
+        }
+    }
+
     /// The fraction of the intensity emitted at angle acos(`cos_theta`) from the axis:
     /// pbrt-v4's smoothstep between the cone's edge and the falloff's start, or a hard
     /// edge where the falloff starts at the edge.
@@ -121,9 +135,9 @@ impl<R: Real> SpotLanes<R> {
     }
 }
 
-impl<R: Real> LightKernel<R> for SpotLanes<R> {
+impl<R: Real, S: Spectrum<R>> LightKernel<R, S> for SpotLanes<R, S> {
     #[inline(always)]
-    fn sample_li(&self, p: V3<R>, _u: (R, R)) -> LaneLightSample<R> {
+    fn sample_li(&self, p: V3<R>, _u: (R, R)) -> LaneLightSample<R, S> {
         let mut s = delta_sample_lanes(p, self.position, self.intensity);
         let f = self.falloff((-s.wi).dot(self.direction));
         s.li = s.li.scale(f);
