@@ -1,10 +1,18 @@
 //! A blend of two materials, f = (1 - w) f_a + w f_b (Mitsuba's `blendbsdf`). Sampling
 //! picks one by its weight; a smooth direction is then weighted by the whole mixture's f
 //! and density, so that multiple importance sampling sees one BSDF.
+//!
+//! The arithmetic is written once over the lane type ([`MixtureLanes`], any two lane
+//! kernels of any payload): the scalar [`Blend`] is its one-lane instance over the two
+//! materials' BSDFs ([`OneBsdf`]), and lanes of two lane kinds mix in lanes with the
+//! same floats per lane.
 
-use super::{Bsdf, BsdfModel, BsdfSample, SpecularRays, TransportMode};
+use super::{Bsdf, BsdfModel, BsdfSample, LaneKernel, LaneSample, SpecularRays, TransportMode};
 use crate::Material;
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Real, V3};
+use penumbra_core::samplers::ONE_MINUS_EPSILON;
+use penumbra_core::spectrum::Spectrum;
 use penumbra_core::Rgb;
 
 #[derive(Clone, Copy, Debug)]
@@ -17,6 +25,57 @@ pub struct Blend<'a> {
     pub uv: Vec2,
 }
 
+/// Two BSDFs mixed per lane: `a` with weight 1 - `weight`, `b` with `weight`; a part of
+/// weight 0 (or less) is left out, as if absent.
+#[derive(Clone, Copy, Debug)]
+pub struct MixtureLanes<R: Real, A, B> {
+    pub a: A,
+    pub b: B,
+    pub weight: R,
+}
+
+/// One BSDF of one path in one transport mode, as a one-lane kernel (a blend's part; its
+/// own sidedness and sample checks included, as [`Bsdf`] answers).
+#[derive(Clone, Copy, Debug)]
+pub struct OneBsdf<'a> {
+    pub bsdf: Bsdf<'a>,
+    pub mode: TransportMode,
+}
+
+impl LaneKernel<f32> for OneBsdf<'_> {
+    #[inline(always)]
+    fn eval(&self, wo: V3<f32>, wi: V3<f32>) -> V3<f32> {
+        self.bsdf.eval(wo.into(), wi.into(), self.mode).into()
+    }
+
+    #[inline(always)]
+    fn pdf(&self, wo: V3<f32>, wi: V3<f32>) -> f32 {
+        self.bsdf.pdf(wo.into(), wi.into(), self.mode)
+    }
+
+    #[inline(always)]
+    fn sample(&self, wo: V3<f32>, u_lobe: f32, u: (f32, f32)) -> LaneSample<f32> {
+        match self.bsdf.sample(wo.into(), u_lobe, u.into(), self.mode) {
+            Some(s) => LaneSample {
+                wi: s.wi.into(),
+                weight: s.weight.into(),
+                pdf: s.pdf,
+                delta: s.delta,
+                eta: s.eta,
+                ok: true,
+            },
+            None => LaneSample {
+                wi: V3::splat(0.0),
+                weight: V3::splat(0.0),
+                pdf: 0.0,
+                delta: false,
+                eta: 1.0,
+                ok: false,
+            },
+        }
+    }
+}
+
 impl<'a> Blend<'a> {
     fn parts(&self) -> [(f32, Bsdf<'a>); 2] {
         [
@@ -24,36 +83,106 @@ impl<'a> Blend<'a> {
             (self.weight, self.b.bsdf(self.uv)),
         ]
     }
+
+    /// The one-lane instance of the arithmetic, for transport `mode`.
+    #[inline(always)]
+    pub fn lanes(&self, mode: TransportMode) -> MixtureLanes<f32, OneBsdf<'a>, OneBsdf<'a>> {
+        MixtureLanes {
+            a: OneBsdf {
+                bsdf: self.a.bsdf(self.uv),
+                mode,
+            },
+            b: OneBsdf {
+                bsdf: self.b.bsdf(self.uv),
+                mode,
+            },
+            weight: self.weight,
+        }
+    }
+}
+
+impl<R: Real, A, B> MixtureLanes<R, A, B> {
+    /// The parts' weights, 1 - w and w.
+    #[inline(always)]
+    fn weights(&self) -> (R, R) {
+        (R::splat(1.0) - self.weight, self.weight)
+    }
+}
+
+/// `u.min(ONE_MINUS_EPSILON)` per lane (NaN gives the bound, as `f32::min`).
+#[inline(always)]
+fn below_one<R: Real>(u: R) -> R {
+    let cap = R::splat(ONE_MINUS_EPSILON);
+    R::select(u.cmp_lt(cap), u, cap)
+}
+
+/// Where a part's sample may be followed (`BsdfSample::usable`: a positive density, a
+/// finite weight and direction), per lane.
+#[inline(always)]
+fn usable<R: Real, S: Spectrum<R>>(s: &LaneSample<R, S>) -> R::Mask {
+    let mut finite = R::and(R::and(s.wi.x.is_finite(), s.wi.y.is_finite()), s.wi.z.is_finite());
+    for i in 0..S::CHANNELS {
+        finite = R::and(finite, s.weight.channel(i).is_finite());
+    }
+    R::and(s.ok, R::and(s.pdf.cmp_gt(R::splat(0.0)), finite))
+}
+
+impl<R: Real, S: Spectrum<R>, A: LaneKernel<R, S>, B: LaneKernel<R, S>> LaneKernel<R, S> for MixtureLanes<R, A, B> {
+    /// (1 - w) f_a + w f_b, summed from black over the parts of positive weight.
+    #[inline(always)]
+    fn eval(&self, wo: V3<R>, wi: V3<R>) -> S {
+        let (wa, wb) = self.weights();
+        let (zero, black) = (R::splat(0.0), S::splat(0.0));
+        let fa = S::select(wa.cmp_gt(zero), self.a.eval(wo, wi).scale(wa), black);
+        let fb = S::select(wb.cmp_gt(zero), self.b.eval(wo, wi).scale(wb), black);
+        (black + fa) + fb
+    }
+
+    /// (1 - w) pdf_a + w pdf_b, summed as `Iterator::sum` adds (from -0) over the parts of
+    /// positive weight.
+    #[inline(always)]
+    fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
+        let (wa, wb) = self.weights();
+        let zero = R::splat(0.0);
+        let sum = R::splat(-0.0);
+        let sum = R::select(wa.cmp_gt(zero), sum + wa * self.a.pdf(wo, wi), sum);
+        R::select(wb.cmp_gt(zero), sum + wb * self.b.pdf(wo, wi), sum)
+    }
+
+    /// A part chosen by its weight (`u_lobe` rescaled for it), then: a delta sample keeps
+    /// its weight, its density times the choice's probability; a smooth one takes the
+    /// whole mixture's value and density.
+    #[inline(always)]
+    fn sample(&self, wo: V3<R>, u_lobe: R, u: (R, R)) -> LaneSample<R, S> {
+        let (wa, wb) = self.weights();
+        let take_a = u_lobe.cmp_lt(wa);
+        let s = penumbra_core::choose_lanes!(
+            R,
+            take_a,
+            {
+                let s = self.a.sample(wo, below_one(u_lobe / wa), u);
+                LaneSample { ok: usable(&s), ..s }
+            },
+            {
+                let s = self.b.sample(wo, below_one((u_lobe - wa) / wb), u);
+                LaneSample { ok: usable(&s), ..s }
+            }
+        );
+        let p = R::select(take_a, wa, wb);
+        let pdf = self.pdf(wo, s.wi);
+        let smooth = LaneSample {
+            weight: self.eval(wo, s.wi).scale(s.wi.z.abs() / pdf),
+            pdf,
+            ok: R::and(s.ok, pdf.cmp_gt(R::splat(0.0))),
+            ..s
+        };
+        let delta = LaneSample { pdf: s.pdf * p, ..s };
+        penumbra_core::choose_lanes!(R, s.delta, delta, smooth)
+    }
 }
 
 impl BsdfModel for Blend<'_> {
-    fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
-        mixture_eval(&self.parts(), wo, wi, mode)
-    }
-
-    fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
-        mixture_pdf(&self.parts(), wo, wi, mode)
-    }
-
-    fn sample(&self, wo: Vec3, u: f32, u2: Vec2, mode: TransportMode) -> Option<BsdfSample> {
-        let parts = self.parts();
-        let [(wa, a), (wb, b)] = parts;
-        let (chosen, p, u) = if u < wa {
-            (a, wa, u / wa)
-        } else {
-            (b, wb, (u - wa) / wb)
-        };
-        let s = chosen.sample(wo, u.min(penumbra_core::samplers::ONE_MINUS_EPSILON), u2, mode)?;
-        if s.delta {
-            return Some(BsdfSample { pdf: s.pdf * p, ..s });
-        }
-        let pdf = mixture_pdf(&parts, wo, s.wi, mode);
-        (pdf > 0.0).then(|| BsdfSample {
-            weight: mixture_eval(&parts, wo, s.wi, mode) * (s.wi.z.abs() / pdf),
-            pdf,
-            ..s
-        })
-    }
+    super::one_lane_methods!();
 
     fn specular_rays(&self, wo: Vec3, mode: TransportMode, rays: &mut SpecularRays) {
         for (w, b) in self.parts() {
@@ -70,21 +199,4 @@ impl BsdfModel for Blend<'_> {
     fn albedo(&self) -> Rgb {
         self.parts().iter().fold(Rgb::BLACK, |a, (w, b)| a + b.albedo() * *w)
     }
-}
-
-/// (1 - w) f_a + w f_b of the weighted parts.
-fn mixture_eval(parts: &[(f32, Bsdf)], wo: Vec3, wi: Vec3, mode: TransportMode) -> Rgb {
-    parts
-        .iter()
-        .filter(|(w, _)| *w > 0.0)
-        .fold(Rgb::BLACK, |f, (w, b)| f + b.eval(wo, wi, mode) * *w)
-}
-
-/// The mixture's density: (1 - w) pdf_a + w pdf_b.
-fn mixture_pdf(parts: &[(f32, Bsdf)], wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
-    parts
-        .iter()
-        .filter(|(w, _)| *w > 0.0)
-        .map(|(w, b)| w * b.pdf(wo, wi, mode))
-        .sum()
 }

@@ -295,3 +295,53 @@ fn a_four_channel_payload_gives_each_channel_the_rgb_floats() {
         compare_payloads(&mut rng, &k, &k.with_spectrum(to4));
     }
 }
+
+/// Blends of a Lambertian and a conductor (smooth or rough) with weights including 0 and
+/// 1 (a part left out): eight lanes of the mixture of the two kinds' lane kernels give
+/// the scalar blend's bits, whose parts are whole `Bsdf`s.
+#[test]
+fn blend_lanes_equal_the_scalar_blend_bit_for_bit() {
+    use crate::materials::{ConductorMaterial, DiffuseMaterial, Roughness};
+    use crate::{Material, Texture};
+    let mut rng = Pcg32::new(17, 5);
+    let mut samples = 0;
+    for _ in 0..ROUNDS {
+        let mut colour = || Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+        let a: [Material; 8] = std::array::from_fn(|_| {
+            Material::Diffuse(DiffuseMaterial {
+                reflectance: Texture::Constant(colour()),
+            })
+        });
+        let b: [Material; 8] = std::array::from_fn(|k| {
+            Material::Conductor(ConductorMaterial {
+                specular: Texture::Constant(colour()),
+                roughness: (k % 2 == 1).then(|| Roughness::isotropic(0.05 + 0.5 * (k as f32 / 8.0))),
+                ..ConductorMaterial::default()
+            })
+        });
+        let weight: [f32; 8] = std::array::from_fn(|k| match k {
+            0 => 0.0,
+            1 => 1.0,
+            _ => rng.next_f32(),
+        });
+        let blends: [Blend; 8] = std::array::from_fn(|k| Blend {
+            a: &a[k],
+            b: &b[k],
+            weight: weight[k],
+            uv: Vec2::ZERO,
+        });
+        let part = |m: &Material| match m.bsdf(Vec2::ZERO).kind {
+            BsdfKind::Diffuse(d) => (Some(d.lanes(TransportMode::Radiance)), None),
+            BsdfKind::Conductor(c) => (None, Some(c.lanes(TransportMode::Radiance))),
+            _ => unreachable!("a diffuse or a conductor"),
+        };
+        let lanes = MixtureLanes {
+            a: Gather::gather::<F8>(&a.each_ref().map(|m| part(m).0.expect("diffuse"))),
+            b: Gather::gather::<F8>(&b.each_ref().map(|m| part(m).1.expect("conductor"))),
+            weight: f8(weight),
+        };
+        let scalar: [&dyn BsdfModel; 8] = std::array::from_fn(|k| &blends[k] as &dyn BsdfModel);
+        samples += compare(&mut rng, &scalar, &lanes, TransportMode::Radiance);
+    }
+    assert!(samples > AT_LEAST, "only {samples} samples existed");
+}

@@ -27,7 +27,7 @@ mod tests;
 #[cfg(test)]
 mod tests_table;
 
-pub use blend::Blend;
+pub use blend::{Blend, MixtureLanes, OneBsdf};
 pub use conductor::{Conductor, ConductorLanes, MetalFresnel};
 pub use dielectric::{Dielectric, DielectricLanes, Lobe};
 pub use diffuse::{Diffuse, DiffuseLanes};
