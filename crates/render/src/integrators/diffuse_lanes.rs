@@ -13,6 +13,7 @@
 use super::{nee, MisHeuristic};
 use crate::bsdfs::{DiffuseLanes, LaneKernel};
 use crate::lights::emitter::{area_to_solid_angle, triangle_point, SMALL_SOLID_ANGLE};
+use crate::lights::light_from_point_lanes;
 use penumbra_core::frame::Basis;
 use penumbra_core::lanes::{Real, V3};
 use penumbra_core::ray::offset_origin_lanes;
@@ -147,7 +148,7 @@ pub(super) fn bounce<R: Real>(
 
 #[inline(always)]
 fn light_sample<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, light: &TriangleLight<R>, u: (R, R)) -> LightOut<R> {
-    let (zero, one, inf) = (R::splat(0.0), R::splat(1.0), R::splat(f32::INFINITY));
+    let one = R::splat(1.0);
     let to_centroid = light.centroid - sh.origin;
     let by_area = light
         .area
@@ -158,15 +159,8 @@ fn light_sample<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, light: &TriangleLig
     let (b1, b2) = uniform_triangle_lanes(u.0, u.1);
     let point = triangle_point(light.v, b1, b2);
     let (pdf, defined) = area_to_solid_angle(sh.origin, point, light.normal, light.area);
-    let d = point - sh.origin;
-    let dist = d.dot(d).sqrt();
-    let sane = R::and(
-        R::and(dist.cmp_gt(zero), dist.cmp_lt(inf)),
-        R::and(pdf.cmp_lt(inf), pdf.cmp_gt(zero)),
-    );
-    let wi = d.div_by(dist);
-    let emits = R::or(light.two_sided, light.normal.dot(-wi).cmp_gt(zero));
-    let li = V3::select(emits, light.radiance, V3::new(zero, zero, zero));
+    let ls = light_from_point_lanes(sh.origin, point, light.normal, pdf, light.radiance, light.two_sided);
+    let (wi, li, dist) = (ls.wi, ls.li, ls.dist);
 
     // `nee::light_sample`: the BSDF's value and density towards it (in the frame the
     // BSDF sees: mirrored where two-sided from behind), the MIS weight.
@@ -177,11 +171,11 @@ fn light_sample<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, light: &TriangleLig
     let origin = sh.origin_towards(wi);
     let target = origin + wi.scale(dist);
     let p_bsdf = bsdf.pdf(bwo, bl);
-    let weight = MisHeuristic::Power.weight_lanes(one * light.p_pick * pdf, one * p_bsdf);
-    let value = f_cos.mul_each(li).scale(weight / (light.p_pick * pdf * one));
+    let mis = Some((MisHeuristic::Power, one, p_bsdf));
+    let value = nee::light_value_lanes(f_cos, li, (light.p_pick, pdf, one), mis);
 
     let ok = R::and(
-        R::and(R::and(defined, sane), R::and(R::not(li.is_black()), is_finite(wi))),
+        R::and(R::and(defined, ls.ok), R::and(R::not(li.is_black()), is_finite(wi))),
         R::and(sh.agrees(wi, l), R::not(f_cos.is_black())),
     );
     LightOut {

@@ -10,6 +10,7 @@ use crate::{Interaction, Scene};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Real, V3};
 use penumbra_core::ray::{offset_origin, offset_origin_lanes};
+use penumbra_core::spectrum::Spectrum;
 use penumbra_core::{Frame, Ray, Rgb};
 
 /// A shading point: the surface, its BSDF in the shading frame, and where rays leave from.
@@ -182,18 +183,36 @@ impl LightPoint {
         if f_cos.is_black() {
             return None;
         }
-        let weight = match strategy.mis {
-            Some((heuristic, n_bsdf)) if !ls.delta => {
-                heuristic.weight(strategy.samples * p_pick * ls.pdf, n_bsdf * p_bsdf())
-            }
-            _ => 1.0,
+        let mis = match strategy.mis {
+            Some((heuristic, n_bsdf)) if !ls.delta => Some((heuristic, n_bsdf, p_bsdf())),
+            _ => None,
         };
+        let odds = (p_pick, ls.pdf, strategy.samples);
         Some(ShadowTest {
             ray: self.ray,
             t_max: self.t_max,
-            value: f_cos * ls.li * (weight / (p_pick * ls.pdf * strategy.samples)),
+            value: light_value_lanes(V3::from(f_cos), V3::from(ls.li), odds, mis).into(),
         })
     }
+}
+
+/// [`LightPoint::finish`]'s value per lane of any [`Real`] type and payload: f |cos θ|
+/// (`f_cos`) times the light `li` over the sample's probability (`p_pick` × `pdf` ×
+/// `samples`, the odds), weighted by `mis` (heuristic, BSDF sample count, BSDF density)
+/// against BSDF sampling, or not weighted. The scalar estimate is its one-lane instance;
+/// the path tracer's eight-lane bounce computes its light samples' values by it.
+#[inline(always)]
+pub(super) fn light_value_lanes<R: Real, S: Spectrum<R>>(
+    f_cos: S,
+    li: S,
+    (p_pick, pdf, samples): (R, R, R),
+    mis: Option<(MisHeuristic, R, R)>,
+) -> S {
+    let weight = match mis {
+        Some((heuristic, n_bsdf, p_bsdf)) => heuristic.weight_lanes(samples * p_pick * pdf, n_bsdf * p_bsdf),
+        None => R::splat(1.0),
+    };
+    f_cos.mul_each(li).scale(weight / (p_pick * pdf * samples))
 }
 
 /// The MIS weight of a BSDF sample (density `n_bsdf` x `p_bsdf`) that left the scene in

@@ -7,9 +7,11 @@
 //! grouped as one light for selection).
 
 use super::emitter::{Emitter, EmitterSample};
-use super::{EmissionSample, LightModel, LightSample, SceneSphere};
+use super::{EmissionSample, LaneLightSample, LightModel, LightSample, SceneSphere};
 use crate::Texture;
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Real, V3};
+use penumbra_core::spectrum::Spectrum;
 use penumbra_core::{warp, Frame, Ray, Rgb};
 use std::f32::consts::PI;
 
@@ -77,20 +79,14 @@ impl EmissionTexture {
 impl AreaLight {
     /// Radiance leaving the point `point`, of normal `normal`, in direction `w`.
     pub fn le(&self, point: Vec3, normal: Vec3, w: Vec3) -> Rgb {
-        if !(self.two_sided || normal.dot(w) > 0.0) {
+        if !emits_towards(normal.into(), w.into(), self.two_sided) {
             return Rgb::BLACK;
         }
         // (Untextured lights, nearly all, return before any geometry is looked at.)
-        let Some(t) = &self.texture else {
+        if self.texture.is_none() {
             return self.radiance;
-        };
-        match self.emitter.triangle_parts() {
-            Some((v, _, _)) => {
-                let (b1, b2) = barycentric(v, point);
-                self.radiance * t.texture.eval(t.uv_at(b1, b2))
-            }
-            None => self.radiance,
         }
+        self.radiance_at(point)
     }
 
     /// Light arriving at `p` from a point chosen by `strategy` from `u`.
@@ -103,19 +99,28 @@ impl AreaLight {
     }
 
     fn to_light_sample(&self, p: Vec3, s: &EmitterSample) -> Option<LightSample> {
-        let d = s.point - p;
-        let dist = d.length();
-        if !(dist > 0.0 && dist.is_finite() && s.pdf.is_finite() && s.pdf > 0.0) {
-            return None;
+        let radiance = self.radiance_at(s.point);
+        light_from_point_lanes(
+            p.into(),
+            s.point.into(),
+            s.normal.into(),
+            s.pdf,
+            radiance.into(),
+            self.two_sided,
+        )
+        .one(false)
+    }
+
+    /// The radiance the light's emitting side sends from `point`: the texture's scale
+    /// looked up there, if textured.
+    fn radiance_at(&self, point: Vec3) -> Rgb {
+        match (&self.texture, self.emitter.triangle_parts()) {
+            (Some(t), Some((v, _, _))) => {
+                let (b1, b2) = barycentric(v, point);
+                self.radiance * t.texture.eval(t.uv_at(b1, b2))
+            }
+            _ => self.radiance,
         }
-        let wi = d / dist;
-        Some(LightSample {
-            wi,
-            li: self.le(s.point, s.normal, -wi),
-            dist,
-            pdf: s.pdf,
-            delta: false,
-        })
     }
 
     /// The solid-angle density `strategy` gives the direction from `p` to `point` (a point
@@ -177,6 +182,45 @@ impl AreaLight {
         let sides = if self.two_sided { 2.0 } else { 1.0 };
         let texture = self.texture.as_ref().map_or(1.0, |t| t.mean);
         sides * PI * self.emitter.area() * self.radiance.luminance() * texture
+    }
+}
+
+/// Whether an area light of normal `normal` (two-sided or not) emits in direction `w`,
+/// per lane of any [`Real`] type.
+#[inline(always)]
+pub fn emits_towards<R: Real>(normal: V3<R>, w: V3<R>, two_sided: R::Mask) -> R::Mask {
+    R::or(two_sided, normal.dot(w).cmp_gt(R::splat(0.0)))
+}
+
+/// Light arriving at `p` from `point` (normal `normal`) of an area light sampled there
+/// with solid-angle density `pdf`, per lane of any [`Real`] type and payload: the unit
+/// direction and distance, and `radiance` where the light's emitting side faces `p`;
+/// a sample where the distance and density are positive and finite. The scalar area
+/// light's sample is its one-lane instance, and the path tracer's eight-lane bounce takes
+/// its triangle lights' samples by it.
+#[inline(always)]
+pub fn light_from_point_lanes<R: Real, S: Spectrum<R>>(
+    p: V3<R>,
+    point: V3<R>,
+    normal: V3<R>,
+    pdf: R,
+    radiance: S,
+    two_sided: R::Mask,
+) -> LaneLightSample<R, S> {
+    let (zero, inf) = (R::splat(0.0), R::splat(f32::INFINITY));
+    let d = point - p;
+    let dist = d.dot(d).sqrt();
+    let ok = R::and(
+        R::and(dist.cmp_gt(zero), dist.cmp_lt(inf)),
+        R::and(pdf.cmp_lt(inf), pdf.cmp_gt(zero)),
+    );
+    let wi = d.div_by(dist);
+    LaneLightSample {
+        wi,
+        li: S::select(emits_towards(normal, -wi, two_sided), radiance, S::splat(0.0)),
+        dist,
+        pdf,
+        ok,
     }
 }
 
