@@ -174,8 +174,8 @@ fn compare_payloads(
             assert_eq!(x[k].to_bits(), y[k].to_bits(), "{what}, lane {k}");
         }
     }
-    for i in 0..4 {
-        let (x, y) = (a.li.channel(RGB_CHANNEL[i]).to_array(), b.li.channel(i).to_array());
+    for (i, &c) in RGB_CHANNEL.iter().enumerate() {
+        let (x, y) = (a.li.channel(c).to_array(), b.li.channel(i).to_array());
         for k in (0..8).filter(|k| ok >> k & 1 != 0) {
             assert_eq!(x[k].to_bits(), y[k].to_bits(), "li channel {i}, lane {k}");
         }
