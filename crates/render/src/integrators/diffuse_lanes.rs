@@ -16,7 +16,6 @@ use crate::lights::emitter::{area_to_solid_angle, triangle_point, SMALL_SOLID_AN
 use crate::lights::light_from_point_lanes;
 use penumbra_core::frame::Basis;
 use penumbra_core::lanes::{Real, V3};
-use penumbra_core::ray::offset_origin_lanes;
 use penumbra_core::warp::uniform_triangle_lanes;
 
 /// A path at a Lambertian surface.
@@ -74,8 +73,9 @@ pub(super) struct ContinuationOut<R: Real> {
     pub beta: V3<R>,
 }
 
-/// [`super::nee::Shading`] of a Lambertian surface: frame, `wo` in it, the geometric
-/// normal on `wo`'s side, the offset origin.
+/// [`super::nee::Shading`] of a Lambertian surface: its geometry
+/// ([`nee::ShadingGeometry`]: frame, `wo` in it, the geometric normal on `wo`'s side, the
+/// offset origin), the point, and the sidedness.
 struct Shading<R: Real> {
     frame: Basis<R>,
     wo: V3<R>,
@@ -89,17 +89,15 @@ struct Shading<R: Real> {
 impl<R: Real> Shading<R> {
     #[inline(always)]
     fn new(h: &DiffuseHit<R>) -> Self {
-        let zero = R::splat(0.0);
-        let frame = Basis::from_normal_tangent(h.ns, h.dpdu);
-        let ng = V3::select(h.ng.dot(h.wo).cmp_lt(zero), -h.ng, h.ng);
-        let wo = frame.to_local(h.wo);
+        // A plain Lambertian material has no normal map: `Material::shading_frame`'s frame.
+        let g = nee::ShadingGeometry::new(h.p, h.ng, h.wo, Basis::from_normal_tangent(h.ns, h.dpdu));
         Shading {
-            frame,
-            wo,
-            ng,
-            origin: offset_origin_lanes(h.p, ng),
+            frame: g.frame,
+            wo: g.wo,
+            ng: g.ng,
+            origin: g.origin,
             p: h.p,
-            mirrored: R::and(h.two_sided, wo.z.cmp_lt(zero)),
+            mirrored: R::and(h.two_sided, g.wo.z.cmp_lt(R::splat(0.0))),
         }
     }
 

@@ -8,8 +8,9 @@ use crate::lights::environment::MapPoint;
 use crate::lights::{AreaLight, AreaSampling, Environment, LightSample, LightSelection};
 use crate::{Interaction, Scene};
 use glam::{Vec2, Vec3};
+use penumbra_core::frame::Basis;
 use penumbra_core::lanes::{Real, V3};
-use penumbra_core::ray::{offset_origin, offset_origin_lanes};
+use penumbra_core::ray::offset_origin_lanes;
 use penumbra_core::spectrum::Spectrum;
 use penumbra_core::{Frame, Ray, Rgb};
 
@@ -30,21 +31,47 @@ pub(super) struct Shading<'a> {
     pub origin: Vec3,
 }
 
+/// What a shading point's geometry gives, per lane of any [`Real`] type: the shading
+/// frame, `wo` in it, the geometric normal turned to `wo`'s side and the offset origin of
+/// rays leaving it (see [`Shading`]); the scalar [`Shading`] and the path tracer's
+/// eight-lane bounce both take theirs from [`ShadingGeometry::new`].
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ShadingGeometry<R: Real> {
+    pub frame: Basis<R>,
+    pub wo: V3<R>,
+    pub ng: V3<R>,
+    pub origin: V3<R>,
+}
+
+impl<R: Real> ShadingGeometry<R> {
+    /// The geometry at point `p` of geometric normal `ng` (either side), seen along the
+    /// world direction `wo`, in the shading frame `frame`.
+    #[inline(always)]
+    pub fn new(p: V3<R>, ng: V3<R>, wo: V3<R>, frame: Basis<R>) -> Self {
+        let ng = V3::select(ng.dot(wo).cmp_lt(R::splat(0.0)), -ng, ng);
+        ShadingGeometry {
+            frame,
+            wo: frame.to_local(wo),
+            ng,
+            origin: offset_origin_lanes(p, ng),
+        }
+    }
+}
+
 impl<'a> Shading<'a> {
     pub fn new(it: &'a Interaction<'a>) -> Self {
-        let frame = it.material.shading_frame(&it.surface);
-        let ng = if it.surface.ng.dot(it.wo) < 0.0 {
-            -it.surface.ng
-        } else {
-            it.surface.ng
-        };
+        let sf = &it.surface;
+        let frame = it
+            .material
+            .shading_frame_lanes(sf.ns.into(), sf.dpdu.into(), sf.uv.x, sf.uv.y);
+        let g = ShadingGeometry::new(it.surface.p.into(), it.surface.ng.into(), it.wo.into(), frame);
         Shading {
             it,
             bsdf: it.material.bsdf(it.surface.uv),
-            frame,
-            wo: frame.to_local(it.wo),
-            ng,
-            origin: offset_origin(it.surface.p, ng),
+            frame: g.frame.into(),
+            wo: g.wo.into(),
+            ng: g.ng.into(),
+            origin: g.origin.into(),
         }
     }
 
