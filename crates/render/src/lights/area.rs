@@ -50,7 +50,19 @@ pub struct EmissionTexture {
 impl EmissionTexture {
     /// The texture coordinates at barycentric coordinates (b1, b2) of the triangle.
     fn uv_at(&self, b1: f32, b2: f32) -> Vec2 {
-        self.uvs[0] * (1.0 - b1 - b2) + self.uvs[1] * b1 + self.uvs[2] * b2
+        let (u, v) = self.uv_at_lanes(b1, b2);
+        Vec2::new(u, v)
+    }
+
+    /// [`EmissionTexture::uv_at`] per lane of any [`Real`] type.
+    #[inline(always)]
+    fn uv_at_lanes<R: Real>(&self, b1: R, b2: R) -> (R, R) {
+        let [t0, t1, t2] = self.uvs;
+        let b0 = R::splat(1.0) - b1 - b2;
+        (
+            R::splat(t0.x) * b0 + R::splat(t1.x) * b1 + R::splat(t2.x) * b2,
+            R::splat(t0.y) * b0 + R::splat(t1.y) * b1 + R::splat(t2.y) * b2,
+        )
     }
 
     /// Estimates the mean over the triangle from the texture at the 45 points of a
@@ -79,14 +91,16 @@ impl EmissionTexture {
 impl AreaLight {
     /// Radiance leaving the point `point`, of normal `normal`, in direction `w`.
     pub fn le(&self, point: Vec3, normal: Vec3, w: Vec3) -> Rgb {
-        if !emits_towards(normal.into(), w.into(), self.two_sided) {
-            return Rgb::BLACK;
-        }
-        // (Untextured lights, nearly all, return before any geometry is looked at.)
-        if self.texture.is_none() {
-            return self.radiance;
-        }
-        self.radiance_at(point)
+        self.le_lanes(point.into(), normal.into(), w.into()).into()
+    }
+
+    /// [`AreaLight::le`] per lane of any [`Real`] type, for points of this light: its
+    /// radiance (times the texture at each point, if textured) where the emitting side
+    /// faces `w`, looked up only where some lane needs it.
+    #[inline(always)]
+    pub fn le_lanes<R: Real>(&self, point: V3<R>, normal: V3<R>, w: V3<R>) -> V3<R> {
+        let emits = emits_towards(normal, w, R::splat_mask(self.two_sided));
+        penumbra_core::choose_lanes!(R, emits, self.radiance_at_lanes(point), V3::splat(0.0))
     }
 
     /// Light arriving at `p` from a point chosen by `strategy` from `u`.
@@ -114,12 +128,24 @@ impl AreaLight {
     /// The radiance the light's emitting side sends from `point`: the texture's scale
     /// looked up there, if textured.
     fn radiance_at(&self, point: Vec3) -> Rgb {
-        match (&self.texture, self.emitter.triangle_parts()) {
-            (Some(t), Some((v, _, _))) => {
-                let (b1, b2) = barycentric(v, point);
-                self.radiance * t.texture.eval(t.uv_at(b1, b2))
+        self.radiance_at_lanes(point.into()).into()
+    }
+
+    /// [`AreaLight::radiance_at`] per lane of any [`Real`] type (untextured lights, nearly
+    /// all, without looking at the point).
+    #[inline(always)]
+    fn radiance_at_lanes<R: Real>(&self, point: V3<R>) -> V3<R> {
+        let radiance = V3::splat_rgb(self.radiance);
+        let Some(t) = &self.texture else {
+            return radiance;
+        };
+        match self.emitter.triangle_parts() {
+            Some((v, _, _)) => {
+                let (b1, b2) = barycentric_lanes(v.map(V3::splat_vec), point);
+                let (u, v) = t.uv_at_lanes(b1, b2);
+                radiance.mul_each(t.texture.eval_lanes(u, v))
             }
-            _ => self.radiance,
+            None => radiance,
         }
     }
 
@@ -226,15 +252,23 @@ pub fn light_from_point_lanes<R: Real, S: Spectrum<R>>(
 
 /// The barycentric coordinates (b1, b2) of `p`'s projection onto the plane of triangle `v`
 /// (p = (1 - b1 - b2) v0 + b1 v1 + b2 v2).
+#[cfg(test)]
 fn barycentric(v: [Vec3; 3], p: Vec3) -> (f32, f32) {
+    barycentric_lanes(v.map(V3::from), p.into())
+}
+
+/// [`barycentric`] per lane of any [`Real`] type ((0, 0) for a degenerate triangle).
+#[inline(always)]
+fn barycentric_lanes<R: Real>(v: [V3<R>; 3], p: V3<R>) -> (R, R) {
     let (e1, e2, d) = (v[1] - v[0], v[2] - v[0], p - v[0]);
     let (d00, d01, d11) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
     let (d20, d21) = (d.dot(e1), d.dot(e2));
     let den = d00 * d11 - d01 * d01;
-    if den <= 0.0 {
-        return (0.0, 0.0);
-    }
-    ((d11 * d20 - d01 * d21) / den, (d00 * d21 - d01 * d20) / den)
+    let (zero, degenerate) = (R::splat(0.0), den.cmp_le(R::splat(0.0)));
+    (
+        R::select(degenerate, zero, (d11 * d20 - d01 * d21) / den),
+        R::select(degenerate, zero, (d00 * d21 - d01 * d20) / den),
+    )
 }
 
 impl LightModel for AreaLight {
@@ -278,6 +312,55 @@ impl LightModel for AreaLight {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use penumbra_core::lanes::F8;
+
+    /// Eight points of a triangle light, textured and not, one- and two-sided, seen from
+    /// random directions (half from behind): each lane of [`AreaLight::le_lanes`] is the
+    /// scalar emission's bits (the texture's scale at the point included).
+    #[test]
+    fn emission_in_lanes_is_the_scalar_emission() {
+        let image = TextureImage {
+            wrap: Default::default(),
+            width: 2,
+            height: 2,
+            pixels: vec![
+                Rgb::new(0.5, 1.0, 2.0),
+                Rgb::splat(4.0),
+                Rgb::splat(0.1),
+                Rgb::new(1.0, 0.0, 3.0),
+            ],
+        };
+        let texture = Texture::Image(crate::texture::ImageTexture {
+            image: Arc::new(image),
+            scale: 1.0,
+        });
+        let v = [
+            Vec3::new(-0.3, -0.2, 1.0),
+            Vec3::new(-0.2, 0.9, 1.2),
+            Vec3::new(0.8, -0.1, 0.9),
+        ];
+        let uvs = [Vec2::new(0.1, 0.2), Vec2::new(0.3, 0.9), Vec2::new(0.8, 0.4)];
+        let mut rng = Uniforms::new(5);
+        for (textured, two_sided) in [(true, false), (true, true), (false, false), (false, true)] {
+            let light = AreaLight {
+                emitter: Emitter::new(EmitterShape::Triangle { v }).unwrap(),
+                radiance: Rgb::new(2.0, 1.0, 0.5),
+                two_sided,
+                texture: textured.then(|| Box::new(EmissionTexture::new(texture.clone(), uvs))),
+            };
+            let normal = light.emitter.normal_at(v[0]);
+            for _ in 0..500 {
+                let points: [Vec3; 8] = std::array::from_fn(|_| light.emitter.sample_area(rng.next_vec2()).0);
+                let dirs: [Vec3; 8] = std::array::from_fn(|_| penumbra_core::warp::uniform_sphere(rng.next_vec2()));
+                let lanes = light.le_lanes::<F8>(V3::from_lanes(&points), V3::splat_vec(normal), V3::from_lanes(&dirs));
+                for (k, le) in lanes.to_lanes().into_iter().enumerate() {
+                    let one = light.le(points[k], normal, dirs[k]);
+                    let bits = |c: Vec3| [c.x, c.y, c.z].map(f32::to_bits);
+                    assert_eq!(bits(le), bits(Vec3::new(one.r, one.g, one.b)), "lane {k}");
+                }
+            }
+        }
+    }
     use crate::lights::emitter::EmitterShape;
     use crate::texture::TextureImage;
     use penumbra_testkit::{assert_within_se, integrate_2d, MeanEstimate, Uniforms};
