@@ -16,7 +16,7 @@ use penumbra::math::lanes::{Lane8, Real, F8, V3};
 #[cfg(target_arch = "x86_64")]
 use penumbra::math::lanes_avx::F8Avx;
 use penumbra::math::{warp, Pcg32, Rgb};
-use penumbra::renderer::bsdfs::{BsdfKind, Gather, LaneKernel, MetalFresnel, TransportMode};
+use penumbra::renderer::bsdfs::{BsdfKind, Gather, LaneKernel, MetalFresnel, MixtureLanes, TransportMode};
 use penumbra::renderer::lights::emitter::{area_to_solid_angle, triangle_point, Emitter, EmitterShape};
 use penumbra::renderer::lights::lanes::sample_li_lanes;
 use penumbra::renderer::lights::{AreaLight, AreaSampling, Directional, Environment, LightSample, Point, Spot};
@@ -131,6 +131,18 @@ fn bsdfs(c: &mut Criterion) {
             BsdfKind::Dielectric(d) => Box::new(move |g| lanes_at_level(&[d.lanes(mode); 8], g)),
             BsdfKind::Plastic(p) => Box::new(move |g| lanes_at_level(&[p.lanes(mode); 8], g)),
             BsdfKind::Phong(p) => Box::new(move |g| lanes_at_level(&[p.lanes(mode); 8], g)),
+            // The blend of a Lambertian and a rough conductor as the mixture of their kernels.
+            BsdfKind::Blend(blend) => match (blend.a.bsdf(blend.uv).kind, blend.b.bsdf(blend.uv).kind) {
+                (BsdfKind::Diffuse(d), BsdfKind::Conductor(c)) => {
+                    let mix = MixtureLanes {
+                        a: d.lanes(mode),
+                        b: c.lanes(mode),
+                        weight: blend.weight,
+                    };
+                    Box::new(move |g| lanes_at_level(&[mix; 8], g))
+                }
+                _ => continue,
+            },
             _ => continue,
         };
         group.bench_function(BenchmarkId::new("8 lanes", name), |b| {

@@ -7,10 +7,10 @@
 //! materials' BSDFs ([`OneBsdf`]), and lanes of two lane kinds mix in lanes with the
 //! same floats per lane.
 
-use super::{Bsdf, BsdfModel, BsdfSample, LaneKernel, LaneSample, SpecularRays, TransportMode};
+use super::{Bsdf, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays, TransportMode};
 use crate::Material;
 use glam::{Vec2, Vec3};
-use penumbra_core::lanes::{Real, V3};
+use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::samplers::ONE_MINUS_EPSILON;
 use penumbra_core::spectrum::Spectrum;
 use penumbra_core::Rgb;
@@ -101,6 +101,21 @@ impl<'a> Blend<'a> {
     }
 }
 
+/// Eight mixtures of the same two kinds make an eight-lane mixture of the two kinds'
+/// eight-lane kernels (parts of one-sided BSDFs: a part's own sidedness is the scalar
+/// [`OneBsdf`]'s business).
+impl<A: Gather, B: Gather> Gather for MixtureLanes<f32, A, B> {
+    type Lanes<L: Lane8> = MixtureLanes<L, A::Lanes<L>, B::Lanes<L>>;
+    #[inline(always)]
+    fn gather<L: Lane8>(one: &[Self; 8]) -> Self::Lanes<L> {
+        MixtureLanes {
+            a: A::gather(&one.map(|m| m.a)),
+            b: B::gather(&one.map(|m| m.b)),
+            weight: L::from_array(one.map(|m| m.weight)),
+        }
+    }
+}
+
 impl<R: Real, A, B> MixtureLanes<R, A, B> {
     /// The parts' weights, 1 - w and w.
     #[inline(always)]
@@ -168,16 +183,24 @@ impl<R: Real, S: Spectrum<R>, A: LaneKernel<R, S>, B: LaneKernel<R, S>> LaneKern
                 LaneSample { ok: usable(&s), ..s }
             }
         );
-        let p = R::select(take_a, wa, wb);
-        let pdf = self.pdf(wo, s.wi);
-        let smooth = LaneSample {
-            weight: self.eval(wo, s.wi).scale(s.wi.z.abs() / pdf),
-            pdf,
-            ok: R::and(s.ok, pdf.cmp_gt(R::splat(0.0))),
-            ..s
-        };
-        let delta = LaneSample { pdf: s.pdf * p, ..s };
-        penumbra_core::choose_lanes!(R, s.delta, delta, smooth)
+        // (Each side computed only where some lane takes it.)
+        penumbra_core::choose_lanes!(
+            R,
+            s.delta,
+            LaneSample {
+                pdf: s.pdf * R::select(take_a, wa, wb),
+                ..s
+            },
+            {
+                let pdf = self.pdf(wo, s.wi);
+                LaneSample {
+                    weight: self.eval(wo, s.wi).scale(s.wi.z.abs() / pdf),
+                    pdf,
+                    ok: R::and(s.ok, pdf.cmp_gt(R::splat(0.0))),
+                    ..s
+                }
+            }
+        )
     }
 }
 
