@@ -243,8 +243,9 @@ pub struct EnvironmentLanes<'a> {
 
 impl<R: Real> LightKernel<R> for EnvironmentLanes<'_> {
     #[inline(always)]
-    fn sample_li(&self, p: V3<R>, u: (R, R)) -> LaneLightSample<R> {
-        self.sample_li_with(p, u, |rgb| rgb)
+    fn sample_li(&self, _p: V3<R>, u: (R, R)) -> LaneLightSample<R> {
+        // (No closure here: one would be compiled apart from the kernel's SIMD level.)
+        self.sample_rgb(u)
     }
 }
 
@@ -259,6 +260,19 @@ impl EnvironmentLanes<'_> {
         u: (R, R),
         to: impl Fn(V3<R>) -> S,
     ) -> LaneLightSample<R, S> {
+        let s = self.sample_rgb(u);
+        LaneLightSample {
+            wi: s.wi,
+            li: to(s.li),
+            dist: s.dist,
+            pdf: s.pdf,
+            ok: s.ok,
+        }
+    }
+
+    /// The sample in RGB.
+    #[inline(always)]
+    fn sample_rgb<R: Real>(&self, u: (R, R)) -> LaneLightSample<R> {
         let env = self.env;
         let (wi, le, pdf) = match &env.image {
             None => (
@@ -283,7 +297,7 @@ impl EnvironmentLanes<'_> {
         };
         LaneLightSample {
             wi,
-            li: to(le),
+            li: le,
             dist: R::splat(f32::INFINITY),
             pdf,
             ok: R::and(pdf.cmp_gt(R::splat(0.0)), pdf.is_finite()),
