@@ -143,30 +143,35 @@ fn usable<R: Real, S: Spectrum<R>>(s: &LaneSample<R, S>) -> R::Mask {
 }
 
 impl<R: Real, S: Spectrum<R>, A: LaneKernel<R, S>, B: LaneKernel<R, S>> LaneKernel<R, S> for MixtureLanes<R, A, B> {
-    /// (1 - w) f_a + w f_b, summed from black over the parts of positive weight.
+    /// (1 - w) f_a + w f_b, summed from black over the parts of positive weight (a part
+    /// no lane weighs is not evaluated).
     #[inline(always)]
     fn eval(&self, wo: V3<R>, wi: V3<R>) -> S {
         let (wa, wb) = self.weights();
         let (zero, black) = (R::splat(0.0), S::splat(0.0));
-        let fa = S::select(wa.cmp_gt(zero), self.a.eval(wo, wi).scale(wa), black);
-        let fb = S::select(wb.cmp_gt(zero), self.b.eval(wo, wi).scale(wb), black);
+        let (in_a, in_b) = (wa.cmp_gt(zero), wb.cmp_gt(zero));
+        let fa = penumbra_core::choose_lanes!(R, in_a, self.a.eval(wo, wi).scale(wa), black);
+        let fb = penumbra_core::choose_lanes!(R, in_b, self.b.eval(wo, wi).scale(wb), black);
         (black + fa) + fb
     }
 
     /// (1 - w) pdf_a + w pdf_b, summed as `Iterator::sum` adds (from -0) over the parts of
-    /// positive weight.
+    /// positive weight (a part no lane weighs is not evaluated).
     #[inline(always)]
     fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
         let (wa, wb) = self.weights();
         let zero = R::splat(0.0);
+        let (in_a, in_b) = (wa.cmp_gt(zero), wb.cmp_gt(zero));
         let sum = R::splat(-0.0);
-        let sum = R::select(wa.cmp_gt(zero), sum + wa * self.a.pdf(wo, wi), sum);
-        R::select(wb.cmp_gt(zero), sum + wb * self.b.pdf(wo, wi), sum)
+        let sum = penumbra_core::choose_lanes!(R, in_a, sum + wa * self.a.pdf(wo, wi), sum);
+        penumbra_core::choose_lanes!(R, in_b, sum + wb * self.b.pdf(wo, wi), sum)
     }
 
     /// A part chosen by its weight (`u_lobe` rescaled for it), then: a delta sample keeps
     /// its weight, its density times the choice's probability; a smooth one takes the
-    /// whole mixture's value and density.
+    /// whole mixture's value and density (none where that density is 0). Each step runs
+    /// only where some lane needs it, so a one-lane instance stops where the part's
+    /// sample fails.
     #[inline(always)]
     fn sample(&self, wo: V3<R>, u_lobe: R, u: (R, R)) -> LaneSample<R, S> {
         let (wa, wb) = self.weights();
@@ -183,22 +188,32 @@ impl<R: Real, S: Spectrum<R>, A: LaneKernel<R, S>, B: LaneKernel<R, S>> LaneKern
                 LaneSample { ok: usable(&s), ..s }
             }
         );
-        // (Each side computed only where some lane takes it.)
+        // Lanes done with their part's answer: a delta sample, or none.
+        let done = R::or(s.delta, R::not(s.ok));
         penumbra_core::choose_lanes!(
             R,
-            s.delta,
+            done,
             LaneSample {
                 pdf: s.pdf * R::select(take_a, wa, wb),
                 ..s
             },
             {
                 let pdf = self.pdf(wo, s.wi);
-                LaneSample {
-                    weight: self.eval(wo, s.wi).scale(s.wi.z.abs() / pdf),
-                    pdf,
-                    ok: R::and(s.ok, pdf.cmp_gt(R::splat(0.0))),
-                    ..s
-                }
+                let positive = pdf.cmp_gt(R::splat(0.0));
+                penumbra_core::choose_lanes!(
+                    R,
+                    positive,
+                    LaneSample {
+                        weight: self.eval(wo, s.wi).scale(s.wi.z.abs() / pdf),
+                        pdf,
+                        ..s
+                    },
+                    LaneSample {
+                        pdf,
+                        ok: R::splat_mask(false),
+                        ..s
+                    }
+                )
             }
         )
     }

@@ -293,6 +293,17 @@ fn a_four_channel_payload_gives_each_channel_the_rgb_floats() {
         compare_payloads(&mut rng, &k, &k.with_spectrum(to4));
         let k = Gather::gather::<F8>(&phongs(&mut rng).map(|d| d.lanes(mode)));
         compare_payloads(&mut rng, &k, &k.with_spectrum(to4));
+        // A blend's mixture of two kinds, weights 0 and 1 included.
+        let a = Gather::gather::<F8>(&diffuses(&mut rng).map(|d| d.lanes(mode)));
+        let b = Gather::gather::<F8>(&conductors(&mut rng).map(|d| d.lanes(mode)));
+        let weight = f8(std::array::from_fn(|k| [0.0, 1.0, rng.next_f32()][k % 3]));
+        let rgb = MixtureLanes { a, b, weight };
+        let four = MixtureLanes {
+            a: a.with_spectrum(to4),
+            b: b.with_spectrum(to4),
+            weight,
+        };
+        compare_payloads(&mut rng, &rgb, &four);
     }
 }
 

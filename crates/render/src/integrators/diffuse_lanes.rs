@@ -13,7 +13,7 @@
 use super::{nee, MisHeuristic};
 use crate::bsdfs::{DiffuseLanes, LaneKernel};
 use crate::lights::emitter::{area_to_solid_angle, triangle_point, SMALL_SOLID_ANGLE};
-use crate::lights::light_from_point_lanes;
+use crate::lights::{emits_towards, towards_point_lanes};
 use penumbra_core::frame::Basis;
 use penumbra_core::lanes::{Real, V3};
 use penumbra_core::warp::uniform_triangle_lanes;
@@ -157,8 +157,9 @@ fn light_sample<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, light: &TriangleLig
     let (b1, b2) = uniform_triangle_lanes(u.0, u.1);
     let point = triangle_point(light.v, b1, b2);
     let (pdf, defined) = area_to_solid_angle(sh.origin, point, light.normal, light.area);
-    let ls = light_from_point_lanes(sh.origin, point, light.normal, pdf, light.radiance, light.two_sided);
-    let (wi, li, dist) = (ls.wi, ls.li, ls.dist);
+    let (wi, dist, sane) = towards_point_lanes(sh.origin, point, pdf);
+    let emits = emits_towards(light.normal, -wi, light.two_sided);
+    let li = V3::select(emits, light.radiance, V3::splat(0.0));
 
     // `nee::light_sample`: the BSDF's value and density towards it (in the frame the
     // BSDF sees: mirrored where two-sided from behind), the MIS weight.
@@ -173,7 +174,7 @@ fn light_sample<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, light: &TriangleLig
     let value = nee::light_value_lanes(f_cos, li, (light.p_pick, pdf, one), mis);
 
     let ok = R::and(
-        R::and(R::and(defined, ls.ok), R::and(R::not(li.is_black()), is_finite(wi))),
+        R::and(R::and(defined, sane), R::and(R::not(li.is_black()), is_finite(wi))),
         R::and(sh.agrees(wi, l), R::not(f_cos.is_black())),
     );
     LightOut {

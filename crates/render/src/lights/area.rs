@@ -7,11 +7,10 @@
 //! grouped as one light for selection).
 
 use super::emitter::{Emitter, EmitterSample};
-use super::{EmissionSample, LaneLightSample, LightModel, LightSample, SceneSphere};
+use super::{EmissionSample, LightModel, LightSample, SceneSphere};
 use crate::Texture;
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Real, V3};
-use penumbra_core::spectrum::Spectrum;
 use penumbra_core::{warp, Frame, Ray, Rgb};
 use std::f32::consts::PI;
 
@@ -113,26 +112,20 @@ impl AreaLight {
     }
 
     fn to_light_sample(&self, p: Vec3, s: &EmitterSample) -> Option<LightSample> {
-        let radiance = self.radiance_at(s.point);
-        light_from_point_lanes(
-            p.into(),
-            s.point.into(),
-            s.normal.into(),
-            s.pdf,
-            radiance.into(),
-            self.two_sided,
-        )
-        .one(false)
+        let (wi, dist, ok) = towards_point_lanes(p.into(), s.point.into(), s.pdf);
+        let wi = Vec3::from(wi);
+        ok.then(|| LightSample {
+            wi,
+            li: self.le(s.point, s.normal, -wi),
+            dist,
+            pdf: s.pdf,
+            delta: false,
+        })
     }
 
-    /// The radiance the light's emitting side sends from `point`: the texture's scale
-    /// looked up there, if textured.
-    fn radiance_at(&self, point: Vec3) -> Rgb {
-        self.radiance_at_lanes(point.into()).into()
-    }
-
-    /// [`AreaLight::radiance_at`] per lane of any [`Real`] type (untextured lights, nearly
-    /// all, without looking at the point).
+    /// The radiance the light's emitting side sends from `point`, per lane of any [`Real`]
+    /// type: the texture's scale looked up there, if textured (untextured lights, nearly
+    /// all, do not look at the point).
     #[inline(always)]
     fn radiance_at_lanes<R: Real>(&self, point: V3<R>) -> V3<R> {
         let radiance = V3::splat_rgb(self.radiance);
@@ -218,21 +211,13 @@ pub fn emits_towards<R: Real>(normal: V3<R>, w: V3<R>, two_sided: R::Mask) -> R:
     R::or(two_sided, normal.dot(w).cmp_gt(R::splat(0.0)))
 }
 
-/// Light arriving at `p` from `point` (normal `normal`) of an area light sampled there
-/// with solid-angle density `pdf`, per lane of any [`Real`] type and payload: the unit
-/// direction and distance, and `radiance` where the light's emitting side faces `p`;
-/// a sample where the distance and density are positive and finite. The scalar area
-/// light's sample is its one-lane instance, and the path tracer's eight-lane bounce takes
-/// its triangle lights' samples by it.
+/// The unit direction from `p` towards `point` (a point of an area light sampled with
+/// solid-angle density `pdf`), the distance, and where these make a light sample (distance
+/// and density positive and finite), per lane of any [`Real`] type. The scalar area
+/// light's sample is its one-lane instance (the radiance then by [`AreaLight::le`]), and
+/// the path tracer's eight-lane bounce takes its triangle lights' samples by it.
 #[inline(always)]
-pub fn light_from_point_lanes<R: Real, S: Spectrum<R>>(
-    p: V3<R>,
-    point: V3<R>,
-    normal: V3<R>,
-    pdf: R,
-    radiance: S,
-    two_sided: R::Mask,
-) -> LaneLightSample<R, S> {
+pub fn towards_point_lanes<R: Real>(p: V3<R>, point: V3<R>, pdf: R) -> (V3<R>, R, R::Mask) {
     let (zero, inf) = (R::splat(0.0), R::splat(f32::INFINITY));
     let d = point - p;
     let dist = d.dot(d).sqrt();
@@ -240,14 +225,7 @@ pub fn light_from_point_lanes<R: Real, S: Spectrum<R>>(
         R::and(dist.cmp_gt(zero), dist.cmp_lt(inf)),
         R::and(pdf.cmp_lt(inf), pdf.cmp_gt(zero)),
     );
-    let wi = d.div_by(dist);
-    LaneLightSample {
-        wi,
-        li: S::select(emits_towards(normal, -wi, two_sided), radiance, S::splat(0.0)),
-        dist,
-        pdf,
-        ok,
-    }
+    (d.div_by(dist), dist, ok)
 }
 
 /// The barycentric coordinates (b1, b2) of `p`'s projection onto the plane of triangle `v`

@@ -30,7 +30,7 @@ mod spot;
 #[cfg(test)]
 mod tests_table;
 
-pub use area::{light_from_point_lanes, AreaLight, AreaSampling, EmissionTexture};
+pub use area::{emits_towards, towards_point_lanes, AreaLight, AreaSampling, EmissionTexture};
 pub use directional::{Directional, DirectionalLanes};
 pub use environment::{Environment, EnvironmentLanes};
 pub use lanes::{LaneLightSample, LightGather, LightKernel};
