@@ -292,21 +292,19 @@ mod tests {
     use super::*;
     use penumbra_core::lanes::F8;
 
-    /// Eight points of a triangle light, textured and not, one- and two-sided, seen from
-    /// random directions (half from behind): each lane of [`AreaLight::le_lanes`] is the
-    /// scalar emission's bits (the texture's scale at the point included).
-    #[test]
-    fn emission_in_lanes_is_the_scalar_emission() {
+    /// A triangle light over the origin, facing it, its radiance scaled (when `uvs` are
+    /// given) by a 2x2 image texture of `pixels` at those corner coordinates; and the texture.
+    fn triangle_light(
+        pixels: [Rgb; 4],
+        uvs: Option<[Vec2; 3]>,
+        radiance: Rgb,
+        two_sided: bool,
+    ) -> (AreaLight, Texture) {
         let image = TextureImage {
             wrap: Default::default(),
             width: 2,
             height: 2,
-            pixels: vec![
-                Rgb::new(0.5, 1.0, 2.0),
-                Rgb::splat(4.0),
-                Rgb::splat(0.1),
-                Rgb::new(1.0, 0.0, 3.0),
-            ],
+            pixels: pixels.to_vec(),
         };
         let texture = Texture::Image(crate::texture::ImageTexture {
             image: Arc::new(image),
@@ -317,16 +315,31 @@ mod tests {
             Vec3::new(-0.2, 0.9, 1.2),
             Vec3::new(0.8, -0.1, 0.9),
         ];
+        let light = AreaLight {
+            emitter: Emitter::new(EmitterShape::Triangle { v }).unwrap(),
+            radiance,
+            two_sided,
+            texture: uvs.map(|uvs| Box::new(EmissionTexture::new(texture.clone(), uvs))),
+        };
+        (light, texture)
+    }
+
+    /// Eight points of a triangle light, textured and not, one- and two-sided, seen from
+    /// random directions (half from behind): each lane of [`AreaLight::le_lanes`] is the
+    /// scalar emission's bits (the texture's scale at the point included).
+    #[test]
+    fn emission_in_lanes_is_the_scalar_emission() {
+        let pixels = [
+            Rgb::new(0.5, 1.0, 2.0),
+            Rgb::splat(4.0),
+            Rgb::splat(0.1),
+            Rgb::new(1.0, 0.0, 3.0),
+        ];
         let uvs = [Vec2::new(0.1, 0.2), Vec2::new(0.3, 0.9), Vec2::new(0.8, 0.4)];
         let mut rng = Uniforms::new(5);
         for (textured, two_sided) in [(true, false), (true, true), (false, false), (false, true)] {
-            let light = AreaLight {
-                emitter: Emitter::new(EmitterShape::Triangle { v }).unwrap(),
-                radiance: Rgb::new(2.0, 1.0, 0.5),
-                two_sided,
-                texture: textured.then(|| Box::new(EmissionTexture::new(texture.clone(), uvs))),
-            };
-            let normal = light.emitter.normal_at(v[0]);
+            let (light, _) = triangle_light(pixels, textured.then_some(uvs), Rgb::new(2.0, 1.0, 0.5), two_sided);
+            let normal = light.emitter.normal_at(Vec3::ZERO);
             for _ in 0..500 {
                 let points: [Vec3; 8] = std::array::from_fn(|_| light.emitter.sample_area(rng.next_vec2()).0);
                 let dirs: [Vec3; 8] = std::array::from_fn(|_| penumbra_core::warp::uniform_sphere(rng.next_vec2()));
@@ -339,6 +352,7 @@ mod tests {
             }
         }
     }
+
     use crate::lights::emitter::EmitterShape;
     use crate::texture::TextureImage;
     use penumbra_testkit::{assert_within_se, integrate_2d, MeanEstimate, Uniforms};
@@ -352,28 +366,10 @@ mod tests {
     #[test]
     fn textured_light_sampling_agrees_with_hitting_the_light() {
         // Dark at the first corner's texture coordinates, bright at the far ones.
-        let image = TextureImage {
-            wrap: Default::default(),
-            width: 2,
-            height: 2,
-            pixels: vec![Rgb::splat(0.5), Rgb::splat(4.0), Rgb::splat(0.1), Rgb::splat(1.0)],
-        };
-        let texture = Texture::Image(crate::texture::ImageTexture {
-            image: Arc::new(image),
-            scale: 1.0,
-        });
-        let v = [
-            Vec3::new(-0.3, -0.2, 1.0),
-            Vec3::new(-0.2, 0.9, 1.2),
-            Vec3::new(0.8, -0.1, 0.9),
-        ];
+        let pixels = [Rgb::splat(0.5), Rgb::splat(4.0), Rgb::splat(0.1), Rgb::splat(1.0)];
         let uvs = [Vec2::new(0.25, 0.25), Vec2::new(0.25, 0.75), Vec2::new(0.75, 0.25)];
-        let light = AreaLight {
-            emitter: Emitter::new(EmitterShape::Triangle { v }).unwrap(),
-            radiance: Rgb::splat(2.0),
-            two_sided: false,
-            texture: Some(Box::new(EmissionTexture::new(texture.clone(), uvs))),
-        };
+        let (light, texture) = triangle_light(pixels, Some(uvs), Rgb::splat(2.0), false);
+        let (v, _, _) = light.emitter.triangle_parts().expect("a triangle light");
         let normal = light.emitter.normal_at(v[0]);
         assert!(normal.z < 0.0, "the light faces the origin");
         // The integral of L cos(theta) cos(theta') / r^2 over the triangle, by quadrature
