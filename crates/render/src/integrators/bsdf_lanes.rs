@@ -8,7 +8,7 @@
 //! bucketing.
 
 use super::nee::Shading;
-use crate::bsdfs::{flip, BsdfKind, BsdfSample, Gather, LaneKernel, TransportMode};
+use crate::bsdfs::{flip, Bsdf, BsdfKind, BsdfSample, Gather, LaneKernel, MixtureLanes, TransportMode};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, F8, V3};
 #[cfg(target_arch = "x86_64")]
@@ -35,21 +35,52 @@ pub(super) struct BsdfAnswer {
 
 /// The BSDF kinds answered in lanes, one line each (bucket, `BsdfKind` variant): generates
 /// [`Buckets`] and its [`Buckets::answer`]. A kind with a lane kernel joins by one line here.
+/// Blends of two one-sided parts of these kinds are answered in lanes too, bucketed by
+/// the pair of kinds, as the mixture of the two kernels ([`MixtureLanes`]).
 macro_rules! lane_kinds {
     ($($bucket:ident: $variant:ident),* $(,)?) => {
         /// The buckets of one depth's shading points, by index, kept between depths.
         #[derive(Default)]
         pub(super) struct Buckets {
             $($bucket: Vec<usize>,)*
+            /// Blends, by the pair of their parts' kinds (in registry order).
+            blends: [Vec<usize>; KINDS * KINDS],
+        }
+
+        /// How many kinds have a lane kernel.
+        const KINDS: usize = [$(stringify!($variant)),*].len();
+
+        /// The lane kind of a one-sided part, by its place in the list above.
+        fn lane_kind(part: &Bsdf) -> Option<usize> {
+            if part.two_sided {
+                return None;
+            }
+            let mut k = 0;
+            $(
+                if matches!(part.kind, BsdfKind::$variant(_)) {
+                    return Some(k);
+                }
+                k += 1;
+            )*
+            let _ = k;
+            None
         }
 
         impl Buckets {
             /// Answers `queries[i]` of shading point `shs[i]` into `out[i]`.
             pub fn answer<'s>(&mut self, shs: &[Shading<'s>], queries: &[BsdfQuery], out: &mut [BsdfAnswer]) {
                 $(self.$bucket.clear();)*
+                self.blends.iter_mut().for_each(Vec::clear);
                 for (i, (sh, q)) in shs.iter().zip(queries).enumerate() {
                     match sh.bsdf.kind {
                         $(BsdfKind::$variant(_) => self.$bucket.push(i),)*
+                        BsdfKind::Blend(b) => {
+                            let (a, c) = (b.a.bsdf(b.uv), b.b.bsdf(b.uv));
+                            match (lane_kind(&a), lane_kind(&c)) {
+                                (Some(ka), Some(kc)) => self.blends[ka * KINDS + kc].push(i),
+                                _ => out[i] = answer_one(sh, q),
+                            }
+                        }
                         _ => out[i] = answer_one(sh, q),
                     }
                 }
@@ -62,8 +93,34 @@ macro_rules! lane_kinds {
                         });
                     }
                 )*
+                lane_kinds!(@blends self, shs, queries, out, mode, [$($variant)*], [$($variant)*]);
             }
         }
+    };
+    // Each pair (A, B) of kinds: its blends' bucket answered by the mixture of A's and B's
+    // kernels.
+    (@blends $self:ident, $shs:ident, $q:ident, $out:ident, $mode:ident, [$($a:ident)*], $bs:tt) => {
+        let mut pair = 0;
+        $( lane_kinds!(@row $self, $shs, $q, $out, $mode, pair, $a, $bs); )*
+        let _ = pair;
+    };
+    (@row $self:ident, $shs:ident, $q:ident, $out:ident, $mode:ident, $pair:ident, $a:ident, [$($b:ident)*]) => {
+        $(
+            for group in $self.blends[$pair].chunks(8) {
+                answer_lanes(group, $shs, $q, $out, |k| match k {
+                    BsdfKind::Blend(blend) => match (blend.a.bsdf(blend.uv).kind, blend.b.bsdf(blend.uv).kind) {
+                        (BsdfKind::$a(x), BsdfKind::$b(y)) => MixtureLanes {
+                            a: x.lanes($mode),
+                            b: y.lanes($mode),
+                            weight: blend.weight,
+                        },
+                        _ => unreachable!("a bucket holds one pair of kinds"),
+                    },
+                    _ => unreachable!("a bucket holds blends"),
+                });
+            }
+            $pair += 1;
+        )*
     };
 }
 
@@ -204,4 +261,123 @@ fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
         }
     }
     penumbra_core::at_level!(avx512: avx512(one, c), avx2: avx2(one, c), portable: kernel::<G, F8>(one, c))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::materials::{ConductorMaterial, DielectricMaterial, DiffuseMaterial, Roughness};
+    use crate::{Interaction, Material, Texture};
+    use penumbra_core::Pcg32;
+    use penumbra_geometry::SurfaceHit;
+
+    /// One material of each lane kind, smooth and rough.
+    fn parts(rng: &mut Pcg32, k: usize) -> Material {
+        let c = |rng: &mut Pcg32| Texture::Constant(Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()));
+        let rough = (k % 2 == 1).then(|| Roughness::isotropic(0.1 + 0.3 * rng.next_f32()));
+        match k % 4 {
+            0 => Material::Diffuse(DiffuseMaterial { reflectance: c(rng) }),
+            1 => Material::Conductor(ConductorMaterial {
+                specular: c(rng),
+                roughness: rough,
+                ..ConductorMaterial::default()
+            }),
+            2 => Material::Dielectric(DielectricMaterial {
+                eta: 1.3 + rng.next_f32(),
+                roughness: rough,
+                ..DielectricMaterial::default()
+            }),
+            _ => Material::plastic(c(rng), Texture::Constant(Rgb::WHITE), 1.5, rough),
+        }
+    }
+
+    /// Shading points of blends of every pair of lane kinds (smooth and rough parts,
+    /// weights 0 and 1 among them, some blends two-sided, some with a two-sided part, which
+    /// stays scalar), seen from both sides and mixed with plain kinds in one depth: the
+    /// buckets' answers in lanes are, point by point, the bits of each point's scalar BSDF.
+    #[test]
+    fn blends_answered_in_lanes_give_the_scalar_answers() {
+        let mut rng = Pcg32::new(21, 7);
+        let mut materials = Vec::new();
+        for i in 0..160 {
+            let (a, b) = (parts(&mut rng, i % 4 + 4 * (i / 16 % 2)), parts(&mut rng, i / 4 % 4));
+            let a = if i % 11 == 0 {
+                Material::TwoSided(Box::new(a))
+            } else {
+                a
+            };
+            let weight = Texture::Constant(Rgb::splat([0.0, 1.0, rng.next_f32()][i % 3]));
+            let blend = Material::Blend {
+                a: Box::new(a),
+                b: Box::new(b),
+                weight,
+            };
+            materials.push(match i % 5 {
+                0 => Material::TwoSided(Box::new(blend)),
+                4 => parts(&mut rng, i),
+                _ => blend,
+            });
+        }
+        let its: Vec<Interaction> = materials
+            .iter()
+            .map(|material| {
+                let n = penumbra_core::warp::uniform_sphere(Vec2::new(rng.next_f32(), rng.next_f32()));
+                let wo = penumbra_core::warp::uniform_sphere(Vec2::new(rng.next_f32(), rng.next_f32()));
+                Interaction {
+                    surface: SurfaceHit {
+                        p: Vec3::ZERO,
+                        ng: n,
+                        ns: n,
+                        uv: Vec2::ZERO,
+                        dpdu: Vec3::ZERO,
+                        object: 0,
+                        triangle: 0,
+                    },
+                    material,
+                    wo,
+                }
+            })
+            .collect();
+        let shs: Vec<Shading> = its.iter().map(Shading::new).collect();
+        let queries: Vec<BsdfQuery> = shs
+            .iter()
+            .map(|_| {
+                let l = penumbra_core::warp::uniform_sphere(Vec2::new(rng.next_f32(), rng.next_f32()));
+                BsdfQuery {
+                    light: (rng.next_below(4) != 0).then_some((l, rng.next_below(2) == 0)),
+                    u_lobe: rng.next_f32(),
+                    u: Vec2::new(rng.next_f32(), rng.next_f32()),
+                }
+            })
+            .collect();
+        let mut out = vec![BsdfAnswer::default(); shs.len()];
+        Buckets::default().answer(&shs, &queries, &mut out);
+        let bits = |c: Rgb| [c.r, c.g, c.b].map(f32::to_bits);
+        let mut samples = 0;
+        for (i, (sh, q)) in shs.iter().zip(&queries).enumerate() {
+            let one = answer_one(sh, q);
+            assert_eq!(bits(out[i].f), bits(one.f), "value, point {i}");
+            assert_eq!(out[i].pdf.to_bits(), one.pdf.to_bits(), "density, point {i}");
+            assert_eq!(
+                out[i].sample.is_some(),
+                one.sample.is_some(),
+                "sample exists, point {i}"
+            );
+            if let (Some(a), Some(b)) = (out[i].sample, one.sample) {
+                samples += 1;
+                assert_eq!(
+                    a.wi.to_array().map(f32::to_bits),
+                    b.wi.to_array().map(f32::to_bits),
+                    "wi, point {i}"
+                );
+                assert_eq!(bits(a.weight), bits(b.weight), "weight, point {i}");
+                assert_eq!(
+                    (a.pdf.to_bits(), a.delta, a.eta.to_bits()),
+                    (b.pdf.to_bits(), b.delta, b.eta.to_bits()),
+                    "point {i}"
+                );
+            }
+        }
+        assert!(samples > 40, "only {samples} samples");
+    }
 }
