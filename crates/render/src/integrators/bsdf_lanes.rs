@@ -55,15 +55,7 @@ macro_rules! lane_kinds {
             if part.two_sided {
                 return None;
             }
-            let mut k = 0;
-            $(
-                if matches!(part.kind, BsdfKind::$variant(_)) {
-                    return Some(k);
-                }
-                k += 1;
-            )*
-            let _ = k;
-            None
+            [$(matches!(part.kind, BsdfKind::$variant(_))),*].iter().position(|&m| m)
         }
 
         impl Buckets {
@@ -271,10 +263,10 @@ mod tests {
     use penumbra_core::Pcg32;
     use penumbra_geometry::SurfaceHit;
 
-    /// One material of each lane kind, smooth and rough.
+    /// A material of lane kind `k % 4`, rough where `k / 4` is odd.
     fn parts(rng: &mut Pcg32, k: usize) -> Material {
         let c = |rng: &mut Pcg32| Texture::Constant(Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()));
-        let rough = (k % 2 == 1).then(|| Roughness::isotropic(0.1 + 0.3 * rng.next_f32()));
+        let rough = (k / 4 % 2 == 1).then(|| Roughness::isotropic(0.1 + 0.3 * rng.next_f32()));
         match k % 4 {
             0 => Material::Diffuse(DiffuseMaterial { reflectance: c(rng) }),
             1 => Material::Conductor(ConductorMaterial {
@@ -300,7 +292,11 @@ mod tests {
         let mut rng = Pcg32::new(21, 7);
         let mut materials = Vec::new();
         for i in 0..160 {
-            let (a, b) = (parts(&mut rng, i % 4 + 4 * (i / 16 % 2)), parts(&mut rng, i / 4 % 4));
+            // Every pair of kinds, each part smooth and rough.
+            let (a, b) = (
+                parts(&mut rng, i % 4 + 4 * (i / 16)),
+                parts(&mut rng, i / 4 % 4 + 4 * (i / 32)),
+            );
             let a = if i % 11 == 0 {
                 Material::TwoSided(Box::new(a))
             } else {
