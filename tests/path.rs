@@ -410,7 +410,9 @@ fn a_disk_reflects_the_half_of_the_environment_map_above_it() {
 /// lane continuations), each with the Sobol and the independent sampler (the Sobol one
 /// has lanes of its own), one- and two-sided diffuse seen from both sides, meshes with and
 /// without vertex normals and UVs (normals against the winding too), glossy and glass
-/// neighbours (paths leaving the lanes and coming back), Russian roulette from depth 1.
+/// neighbours (paths leaving the lanes and coming back), Russian roulette from depth 1,
+/// environments (an image and a constant one, the latter beside lights of every other
+/// kind), whose light samples the lanes take.
 #[test]
 fn diffuse_lanes_equal_the_scalar_bounce() {
     use penumbra::renderer::integrators::PathTracer;
@@ -436,13 +438,20 @@ fn diffuse_lanes_equal_the_scalar_bounce() {
         "materials.toml",
         "veach-mis.toml",
         "box-light.toml",
+        "glossy-env.toml",
     ]
     .map(|name| {
         let path = format!("{}/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
         SourceFile::new(&path, std::fs::read_to_string(&path).unwrap())
     })
     .into_iter()
-    .chain([SourceFile::new("mixed.toml", mixed.to_string())]);
+    .chain([
+        SourceFile::new("mixed.toml", mixed.to_string()),
+        SourceFile::new(
+            "mixed-env.toml",
+            format!("{mixed}[environment]\nradiance = [0.3, 0.4, 0.5]\n"),
+        ),
+    ]);
     for (file, sampler) in descs.flat_map(|f| [(f.clone(), SamplerKind::Sobol), (f, SamplerKind::Independent)]) {
         let mut desc = penumbra::scene::formats::native::read(&file).unwrap();
         (desc.render.width, desc.render.height) = (48, 40);

@@ -1,8 +1,10 @@
-//! The path tracer's bounce at a Lambertian surface lit by triangle lights, written once
-//! for lanes of any [`Real`] type, so that eight paths take it in one pass of AVX
-//! instructions ([`F8`](penumbra_core::lanes::F8)): the shading frame, a light sample by
-//! area with its MIS weight (power heuristic against the cosine-weighted BSDF density,
-//! Veach and Guibas 1995), and the cosine-weighted continuation (Malley's method).
+//! The path tracer's bounce at a Lambertian surface lit by triangle lights or the
+//! environment, written once for lanes of any [`Real`] type, so that eight paths take it in
+//! one pass of AVX instructions ([`F8`](penumbra_core::lanes::F8)): the shading frame, a
+//! light sample (a triangle's point by area, or the environment's direction by
+//! [`EnvironmentLanes`]) with its MIS weight (power heuristic against the cosine-weighted
+//! BSDF density, Veach and Guibas 1995), and the cosine-weighted continuation (Malley's
+//! method).
 //!
 //! Every step performs the IEEE operations of the scalar path ([`super::nee::Shading`],
 //! [`super::nee::light_sample`], `Bsdf::sample` of a [`Diffuse`](crate::bsdfs::Diffuse)
@@ -13,7 +15,7 @@
 use super::{nee, MisHeuristic};
 use crate::bsdfs::{DiffuseLanes, LaneKernel};
 use crate::lights::emitter::{area_to_solid_angle, triangle_point, SMALL_SOLID_ANGLE};
-use crate::lights::{emits_towards, towards_point_lanes};
+use crate::lights::{emits_towards, towards_point_lanes, EnvironmentLanes, LaneLightSample, LightKernel};
 use penumbra_core::frame::Basis;
 use penumbra_core::lanes::{Real, V3};
 use penumbra_core::warp::uniform_triangle_lanes;
@@ -51,8 +53,8 @@ pub(super) struct TriangleLight<R: Real> {
 /// included) if nothing blocks it.
 pub(super) struct LightOut<R: Real> {
     /// The light looks small from the shading point, so the scalar path samples it by
-    /// area as this does; elsewhere (`false`) the lane's sample must be taken by
-    /// [`super::nee::light_sample`], by solid angle.
+    /// area as this does, or it is the environment; elsewhere (`false`) the lane's sample
+    /// must be taken by [`super::nee::light_sample`], by solid angle.
     pub by_area: R::Mask,
     /// A sample that brings light if unblocked (only meaningful where `by_area`).
     pub ok: R::Mask,
@@ -132,21 +134,33 @@ fn is_finite<R: Real>(v: V3<R>) -> R::Mask {
 }
 
 /// One bounce: the light sample from `u_light` on `light` (area sampling, MIS weight
-/// against the BSDF) and the continuation from `u_dir`.
+/// against the BSDF), or where `env`'s lanes say so on the environment, and the
+/// continuation from `u_dir`.
 #[inline(always)]
 pub(super) fn bounce<R: Real>(
     h: &DiffuseHit<R>,
     light: &TriangleLight<R>,
+    env: Option<(&EnvironmentLanes, R::Mask)>,
     u_light: (R, R),
     u_dir: (R, R),
 ) -> (LightOut<R>, ContinuationOut<R>) {
     let sh = Shading::new(h);
-    (light_sample(h, &sh, light, u_light), continuation(h, &sh, u_dir))
+    let mut lo = light_sample(h, &sh, light, u_light);
+    if let Some((env, lanes)) = env.filter(|(_, lanes)| R::any(*lanes)) {
+        let e = environment_sample(h, &sh, env, light.p_pick, u_light);
+        lo = LightOut {
+            by_area: R::select_mask(lanes, e.by_area, lo.by_area),
+            ok: R::select_mask(lanes, e.ok, lo.ok),
+            origin: V3::select(lanes, e.origin, lo.origin),
+            dir: V3::select(lanes, e.dir, lo.dir),
+            value: V3::select(lanes, e.value, lo.value),
+        };
+    }
+    (lo, continuation(h, &sh, u_dir))
 }
 
 #[inline(always)]
 fn light_sample<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, light: &TriangleLight<R>, u: (R, R)) -> LightOut<R> {
-    let one = R::splat(1.0);
     let to_centroid = light.centroid - sh.origin;
     let by_area = light
         .area
@@ -160,28 +174,64 @@ fn light_sample<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, light: &TriangleLig
     let (wi, dist, sane) = towards_point_lanes(sh.origin, point, pdf);
     let emits = emits_towards(light.normal, -wi, light.two_sided);
     let li = V3::select(emits, light.radiance, V3::splat(0.0));
+    let sample = LaneLightSample {
+        wi,
+        li,
+        dist,
+        pdf,
+        ok: R::and(defined, sane),
+    };
+    LightOut {
+        by_area,
+        ..lit_by(h, sh, &sample, light.p_pick)
+    }
+}
 
-    // `nee::light_sample`: the BSDF's value and density towards it (in the frame the
-    // BSDF sees: mirrored where two-sided from behind), the MIS weight.
+/// The light sample of the environment `env`, picked with probability `p_pick`
+/// (`Environment::sample_li`'s arithmetic, [`EnvironmentLanes`]); `by_area` is set.
+#[inline(always)]
+fn environment_sample<R: Real>(
+    h: &DiffuseHit<R>,
+    sh: &Shading<R>,
+    env: &EnvironmentLanes,
+    p_pick: R,
+    u: (R, R),
+) -> LightOut<R> {
+    let sample = env.sample_li(V3::splat(0.0), u);
+    LightOut {
+        by_area: R::splat_mask(true),
+        ..lit_by(h, sh, &sample, p_pick)
+    }
+}
+
+/// What the light `s` (picked with probability `p_pick`) brings to `h` if unblocked:
+/// `nee::light_sample`'s steps, the BSDF's value and density towards it (in the frame the
+/// BSDF sees: mirrored where two-sided from behind) and the MIS weight, and its shadow
+/// ray (to the light's point, or along `wi` for a light at infinity).
+#[inline(always)]
+fn lit_by<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, s: &LaneLightSample<R>, p_pick: R) -> LightOut<R> {
+    let one = R::splat(1.0);
+    let (wi, li) = (s.wi, s.li);
     let l = sh.frame.to_local(wi);
     let (bwo, bl) = (sh.bsdf_dir(sh.wo), sh.bsdf_dir(l));
     let bsdf = DiffuseLanes::new(h.reflectance);
     let f_cos = bsdf.eval(bwo, bl).scale(l.z.abs());
     let origin = sh.origin_towards(wi);
-    let target = origin + wi.scale(dist);
+    let finite = s.dist.is_finite();
+    let target = origin + wi.scale(s.dist);
     let p_bsdf = bsdf.pdf(bwo, bl);
     let mis = Some((MisHeuristic::Power, one, p_bsdf));
-    let value = nee::light_value_lanes(f_cos, li, (light.p_pick, pdf, one), mis);
+    let value = nee::light_value_lanes(f_cos, li, (p_pick, s.pdf, one), mis);
 
     let ok = R::and(
-        R::and(R::and(defined, sane), R::and(R::not(li.is_black()), is_finite(wi))),
+        R::and(s.ok, R::and(R::not(li.is_black()), is_finite(wi))),
         R::and(sh.agrees(wi, l), R::not(f_cos.is_black())),
     );
     LightOut {
-        by_area,
+        by_area: R::splat_mask(false),
         ok,
         origin,
-        dir: target - origin,
+        dir: V3::select(finite, target - origin, wi),
         value: h.beta.mul_each(value),
     }
 }

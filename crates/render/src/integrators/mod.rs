@@ -8,6 +8,7 @@ mod bsdf_lanes;
 mod diffuse_lanes;
 mod direct;
 mod env;
+mod light_lanes;
 mod mlt;
 mod nee;
 mod path;

@@ -186,22 +186,26 @@ pub(super) fn light_point(
     sampling: AreaSampling,
 ) -> Option<LightPoint> {
     let light = &scene.lights.lights()[index as usize];
-    let ls = light.sample_li(sh.origin, u, sampling)?;
-    if ls.li.is_black() || !ls.wi.is_finite() {
-        return None;
-    }
-    let l = sh.local(ls.wi)?;
-    let (ray, t_max) = shadow_ray(sh.origin_towards(ls.wi), &ls);
-    Some(LightPoint {
-        l,
-        ls,
-        p_pick,
-        ray,
-        t_max,
-    })
+    LightPoint::new(sh, light.sample_li(sh.origin, u, sampling)?, p_pick)
 }
 
 impl LightPoint {
+    /// [`light_point`] from the light's sample `ls` at `sh.origin`, however it was taken.
+    pub fn new(sh: &Shading, ls: LightSample, p_pick: f32) -> Option<LightPoint> {
+        if ls.li.is_black() || !ls.wi.is_finite() {
+            return None;
+        }
+        let l = sh.local(ls.wi)?;
+        let (ray, t_max) = shadow_ray(sh.origin_towards(ls.wi), &ls);
+        Some(LightPoint {
+            l,
+            ls,
+            p_pick,
+            ray,
+            t_max,
+        })
+    }
+
     /// The second half of [`light_sample`], given the BSDF's value `f` towards the light
     /// and its density (asked for only when weighed).
     pub fn finish(&self, f: Rgb, p_bsdf: impl FnOnce() -> f32, strategy: &LightStrategy) -> Option<ShadowTest> {

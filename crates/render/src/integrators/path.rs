@@ -22,7 +22,8 @@
 //! traced one by one ([`PathTracer::li`] is a batch of one).
 
 use super::bsdf_lanes::{BsdfAnswer, BsdfQuery, Buckets};
-use super::nee::{self, LightStrategy, Shading};
+use super::light_lanes::{sample_lights, LightRequest};
+use super::nee::{self, LightPoint, LightStrategy, Shading};
 use super::path_diffuse::LaneTable;
 use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts, Splat};
 use crate::bsdfs::BsdfSample;
@@ -203,6 +204,11 @@ impl PathTracer {
         let mut its = Vec::with_capacity(N);
         let (mut queries, mut answers, mut points) =
             (Vec::with_capacity(N), Vec::with_capacity(N), Vec::with_capacity(N));
+        // The paths that left the scene at a depth.
+        let mut escaped = Vec::with_capacity(N);
+        // The lights picked there (their probabilities), and their samples.
+        let (mut picks, mut requests, mut light_samples) =
+            (Vec::with_capacity(N), Vec::with_capacity(N), Vec::with_capacity(N));
         let mut buckets = Buckets::default();
         // The paths still alive, compacted as paths end.
         for (i, l) in live.iter_mut().enumerate() {
@@ -243,22 +249,11 @@ impl PathTracer {
             // Emission met at each surface, and where paths end; plain Lambertian triangles
             // after the others, eight at a time.
             its.clear();
+            escaped.clear();
             for &(k, hit) in &others {
                 let path = &mut paths[live[k]];
                 let Some(hit) = hit else {
-                    // The environment, weighted against its light sampling as an emitter is.
-                    path.radiance += path.beta
-                        * match scene.environment() {
-                            Some(env) => {
-                                let at = env.1.lookup(path.ray.dir);
-                                let weight = path.previous_pdf.map_or(1.0, |p_bsdf| {
-                                    let mis = (selection, heuristic);
-                                    nee::environment_weight(scene, mis, env, &at, (1.0, p_bsdf), 1.0)
-                                });
-                                env.1.le_at(&at) * weight
-                            }
-                            None => scene.background,
-                        };
+                    escaped.push(live[k]);
                     path.alive = false;
                     continue;
                 };
@@ -292,27 +287,52 @@ impl PathTracer {
                 }
                 its.push((k, it));
             }
+            // The environment met by the paths that left the scene, looked up eight at a
+            // time, weighted against its light sampling as an emitter is.
+            for group in escaped.chunks(8) {
+                let Some(env) = scene.environment() else {
+                    for &i in group {
+                        paths[i].radiance += paths[i].beta * scene.background;
+                    }
+                    continue;
+                };
+                let dirs = std::array::from_fn(|j| paths[group[j.min(group.len() - 1)]].ray.dir);
+                for (&i, at) in group.iter().zip(env.1.lookup8(&dirs)) {
+                    let path = &mut paths[i];
+                    let weight = path.previous_pdf.map_or(1.0, |p_bsdf| {
+                        nee::environment_weight(scene, (selection, heuristic), env, &at, (1.0, p_bsdf), 1.0)
+                    });
+                    path.radiance += path.beta * (env.1.le_at(&at) * weight);
+                }
+            }
             // At each shading point, in each path's order of random numbers: a light
             // sample (the point on the light), then what the BSDF is asked (its value
             // and density towards the light, a continuation), answered by kind in lanes.
+            // The light samples are taken together (in lanes where the light's kind has
+            // a lane kernel), after every point has drawn its numbers.
             let shs: Vec<Shading> = its.iter().map(|(_, it)| Shading::new(it)).collect();
             queries.clear();
-            points.clear();
+            picks.clear();
+            requests.clear();
             for ((k, _), sh) in its.iter().zip(&shs) {
                 let sampler = &mut samplers[live[*k]];
-                let point = sh.bsdf.has_smooth().then(|| {
+                let pick = sh.bsdf.has_smooth().then(|| {
                     let u_pick = sampler.next_1d();
                     let u = sampler.next_2d();
-                    let pick = scene.lights.pick(selection, u_pick)?;
-                    nee::light_point(scene, sh, pick, u, nee.sampling)
+                    let (light, p_pick) = scene.lights.pick(selection, u_pick)?;
+                    requests.push(LightRequest { light, p: sh.origin, u });
+                    Some(p_pick)
                 });
-                let point = point.flatten();
+                picks.push(pick.flatten());
                 let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
-                queries.push(BsdfQuery {
-                    light: point.map(|p| (p.l, !p.ls.delta)),
-                    u_lobe,
-                    u,
-                });
+                queries.push(BsdfQuery { light: None, u_lobe, u });
+            }
+            sample_lights(scene, &requests, nee.sampling, &mut light_samples);
+            points.clear();
+            let mut samples = light_samples.iter();
+            for ((query, sh), pick) in queries.iter_mut().zip(&shs).zip(&picks) {
+                let point = pick.and_then(|p_pick| LightPoint::new(sh, samples.next().copied().flatten()?, p_pick));
+                query.light = point.map(|p| (p.l, !p.ls.delta));
                 points.push(point);
             }
             answers.resize(queries.len(), BsdfAnswer::default());

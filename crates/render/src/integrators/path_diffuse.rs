@@ -7,7 +7,7 @@ use super::diffuse_lanes::{self, DiffuseHit, TriangleLight};
 use super::nee::{self, LightStrategy, Shading};
 use super::path::{PathState, PathTracer, Shadows};
 use super::{RayCounts, SHADOW_T_MAX};
-use crate::lights::{AreaLight, Light, LightSelection};
+use crate::lights::{AreaLight, Environment, Light, LightSelection};
 use crate::materials::DiffuseMaterial;
 use crate::{Interaction, Material, Scene, Texture};
 use glam::{Vec2, Vec3};
@@ -153,13 +153,14 @@ impl Columns {
 }
 
 /// The per-lane flags beside [`Columns`]: sidedness of surface and light, whether the
-/// mesh has normals and UVs, whether the picked light is a plain triangle.
+/// mesh has normals and UVs, whether the picked light is the environment.
 #[derive(Default)]
 struct Flags {
     two_sided: [bool; 8],
     light_two_sided: [bool; 8],
     has_normals: [bool; 8],
     has_uvs: [bool; 8],
+    environment: [bool; 8],
 }
 
 /// What the lanes computed, read back per lane: the surface, the light sample's shadow
@@ -189,6 +190,7 @@ struct LaneResults {
 fn lane_kernel<L: Lane8>(
     c: &Columns,
     f: &Flags,
+    env: Option<&Environment>,
     u_light: ([f32; 8], [f32; 8]),
     u_dir: ([f32; 8], [f32; 8]),
 ) -> LaneResults {
@@ -226,9 +228,16 @@ fn lane_kernel<L: Lane8>(
         two_sided: L::mask_of(f.light_two_sided),
         p_pick: c.f8(Columns::P_PICK),
     };
+    let env = env.map(Environment::lanes);
+    // (A match, not `Option::map`: no closure makes lane values here.)
+    let env = match &env {
+        Some(env) => Some((env, L::mask_of(f.environment))),
+        None => None,
+    };
     let (lo, co) = diffuse_lanes::bounce(
         &hit,
         &light,
+        env,
         (L::from_array(u_light.0), L::from_array(u_light.1)),
         (L::from_array(u_dir.0), L::from_array(u_dir.1)),
     );
@@ -257,19 +266,25 @@ fn lane_kernel<L: Lane8>(
 
 /// [`lane_kernel`] at the SIMD level the CPU runs ([`penumbra_core::simd::level`]); the same floats at
 /// every level.
-fn run_lane_kernel(c: &Columns, f: &Flags, u_light: ([f32; 8], [f32; 8]), u_dir: ([f32; 8], [f32; 8])) -> LaneResults {
+fn run_lane_kernel(
+    c: &Columns,
+    f: &Flags,
+    env: Option<&Environment>,
+    u_light: ([f32; 8], [f32; 8]),
+    u_dir: ([f32; 8], [f32; 8]),
+) -> LaneResults {
     type U = ([f32; 8], [f32; 8]);
     #[cfg(target_arch = "x86_64")]
     penumbra_core::level_fns! {
         /// The kernel compiled for AVX2 and for AVX-512, in `F8Avx` lanes.
-        unsafe fn [avx2, avx512](c: &Columns, f: &Flags, u_light: U, u_dir: U) -> LaneResults {
-            lane_kernel::<F8Avx>(c, f, u_light, u_dir)
+        unsafe fn [avx2, avx512](c: &Columns, f: &Flags, env: Option<&Environment>, u_light: U, u_dir: U) -> LaneResults {
+            lane_kernel::<F8Avx>(c, f, env, u_light, u_dir)
         }
     }
     penumbra_core::at_level!(
-        avx512: avx512(c, f, u_light, u_dir),
-        avx2: avx2(c, f, u_light, u_dir),
-        portable: lane_kernel::<F8>(c, f, u_light, u_dir),
+        avx512: avx512(c, f, env, u_light, u_dir),
+        avx2: avx2(c, f, env, u_light, u_dir),
+        portable: lane_kernel::<F8>(c, f, env, u_light, u_dir),
     )
 }
 
@@ -346,6 +361,8 @@ impl PathTracer {
             let (v, normal, centroid) = light.emitter.triangle_parts()?;
             Some((v, normal, centroid, light, p_pick))
         };
+        // The environment's light samples are taken in the lanes too.
+        let environment = scene.environment();
         let rgb = |c: Rgb| Vec3::new(c.r, c.g, c.b);
         let mut c = Columns([[0.0; 8]; Columns::COUNT]);
         let mut f = Flags::default();
@@ -387,9 +404,15 @@ impl PathTracer {
                 c.0[Columns::P_PICK][j] = p_pick;
                 f.light_two_sided[j] = light.two_sided;
                 tris[j] = true;
+            } else if let (Some((index, p_pick)), Some((env, _))) = (picks[j], environment) {
+                if index == env {
+                    c.0[Columns::P_PICK][j] = p_pick;
+                    f.environment[j] = true;
+                }
             }
         }
-        let r = run_lane_kernel(&c, &f, u_light, u_dir);
+        let env = environment.filter(|_| f.environment.iter().any(|&e| e)).map(|e| e.1);
+        let r = run_lane_kernel(&c, &f, env, u_light, u_dir);
         let (by_area, lit, c_ok, c_pdf) = (r.by_area, r.lit, r.c_ok, r.c_pdf);
         // Russian roulette's number for each path that goes on, where it is played.
         let (mut going, mut rank) = ([0usize; 8], [0usize; 8]);
@@ -408,10 +431,12 @@ impl PathTracer {
         for (j, d) in group.iter().enumerate() {
             let i = path_of[j];
             if let Some((index, p_pick)) = picks[j] {
-                if tris[j] && by_area >> j & 1 != 0 {
+                let at_infinity = f.environment[j];
+                if (tris[j] || at_infinity) && by_area >> j & 1 != 0 {
                     if lit >> j & 1 != 0 {
                         let v = l_value.at(j);
-                        shadows.push(l_origin.at(j), l_dir.at(j), SHADOW_T_MAX, (i, Rgb::new(v.x, v.y, v.z)));
+                        let t_max = if at_infinity { f32::INFINITY } else { SHADOW_T_MAX };
+                        shadows.push(l_origin.at(j), l_dir.at(j), t_max, (i, Rgb::new(v.x, v.y, v.z)));
                     }
                 } else {
                     let it = lane_interaction(d, scene.material_of(d.lane.object), j, &r);

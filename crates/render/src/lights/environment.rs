@@ -106,40 +106,84 @@ impl Environment {
     /// What the map holds for the world direction `d`, for [`Environment::le_at`] and
     /// [`Environment::pdf_at`]: a direction's radiance and density share one lookup.
     pub fn lookup(&self, d: Vec3) -> MapPoint {
-        let Some((image, distribution)) = &self.image else {
-            return MapPoint {
-                le: self.scale,
-                pdf: 1.0 / (4.0 * PI),
-            };
-        };
-        let (uv, sin_theta) = self.map_coordinates(d);
-        match distribution.item_at([uv.x, uv.y]) {
-            Some(texel) => MapPoint {
-                le: texel.radiance,
-                pdf: solid_angle_density(texel.density, sin_theta),
-            },
-            // A row of zero weight: never sampled, its radiance (black, unless the scale
-            // has no luminance) from the image.
-            None => {
-                let x = ((uv.x * image.width as f32) as usize).min(image.width - 1);
-                let y = ((uv.y * image.height as f32) as usize).min(image.height - 1);
-                MapPoint {
-                    le: image.pixels[y * image.width + x] * self.scale,
-                    pdf: 0.0,
-                }
-            }
-        }
+        let (le, pdf) = self.lookup_lanes(V3::from(d));
+        MapPoint { le: le.into(), pdf }
     }
 
-    /// (u, v) in the map of the world direction `d`, and sin θ there.
-    fn map_coordinates(&self, d: Vec3) -> (Vec2, f32) {
-        let d = (self.to_local * d).normalize();
+    /// [`Environment::lookup`] of eight directions, in eight lanes at the CPU's SIMD level.
+    pub fn lookup8(&self, d: &[Vec3; 8]) -> [MapPoint; 8] {
+        #[inline(always)]
+        fn kernel<L: Lane8>(env: &Environment, d: &[Vec3; 8]) -> [MapPoint; 8] {
+            let (le, pdf) = env.lookup_lanes(V3::<L>::from_lanes(d));
+            let (le, pdf) = (le.to_lanes(), pdf.to_array());
+            std::array::from_fn(|k| MapPoint {
+                le: Rgb::new(le[k].x, le[k].y, le[k].z),
+                pdf: pdf[k],
+            })
+        }
+        #[cfg(target_arch = "x86_64")]
+        penumbra_core::level_fns! {
+            unsafe fn [avx2, avx512](env: &Environment, d: &[Vec3; 8]) -> [MapPoint; 8] {
+                kernel::<penumbra_core::lanes_avx::F8Avx>(env, d)
+            }
+        }
+        penumbra_core::at_level!(
+            avx512: avx512(self, d),
+            avx2: avx2(self, d),
+            portable: kernel::<penumbra_core::lanes::F8>(self, d)
+        )
+    }
+
+    /// [`Environment::lookup`] per lane: the radiance and the density of each direction.
+    #[inline(always)]
+    fn lookup_lanes<R: Real>(&self, d: V3<R>) -> (V3<R>, R) {
+        let Some((image, distribution)) = &self.image else {
+            return (V3::splat_rgb(self.scale), R::splat(1.0 / (4.0 * PI)));
+        };
+        let (u, v, sin_theta) = self.map_coordinates(d);
+        // Each lane's cell: its radiance and 2D density; -1 for a row of zero weight
+        // (never sampled, density 0), whose radiance (black, unless the scale has no
+        // luminance) comes from the image.
+        let [r, g, b, density] = R::map_lanes([u, v], |_, [u, v]| match distribution.item_at([u, v]) {
+            Some(texel) => {
+                let t = &texel.radiance;
+                [t.r, t.g, t.b, texel.density]
+            }
+            None => {
+                let x = ((u * image.width as f32) as usize).min(image.width - 1);
+                let y = ((v * image.height as f32) as usize).min(image.height - 1);
+                let t = image.pixels[y * image.width + x] * self.scale;
+                [t.r, t.g, t.b, -1.0]
+            }
+        });
+        let zero = R::splat(0.0);
+        let pdf = R::select(
+            density.cmp_lt(zero),
+            zero,
+            solid_angle_density_lanes(density, sin_theta),
+        );
+        (V3::new(r, g, b), pdf)
+    }
+
+    /// (u, v) in the map of the world direction `d`, and sin θ there, per lane.
+    #[inline(always)]
+    fn map_coordinates<R: Real>(&self, d: V3<R>) -> (R, R, R) {
+        // `(to_local * d).normalize()` as glam computes it.
+        let m = &self.to_local;
+        let columns = Basis {
+            s: V3::splat_vec(m.x_axis),
+            t: V3::splat_vec(m.y_axis),
+            n: V3::splat_vec(m.z_axis),
+        };
+        let d = columns.to_world(d).try_normalize().0;
         let phi = trig::atan2(d.x, -d.z);
-        let u = (phi / (2.0 * PI)).rem_euclid(1.0);
+        // `rem_euclid(1.0)` of a number in [-1/2, 1/2], and the `min`s below, as `f32`'s.
+        let u = phi / R::splat(2.0 * PI);
+        let u = R::select(u.cmp_lt(R::splat(0.0)), u + R::splat(1.0), u);
         // θ and sin θ from x and z besides y: accurate near the poles, where 1 - y² is not.
         let sin_theta = (d.x * d.x + d.z * d.z).sqrt();
-        let v = trig::atan2(sin_theta, d.y) / PI;
-        (Vec2::new(u.min(1.0 - f32::EPSILON), v.min(1.0)), sin_theta)
+        let v = trig::atan2(sin_theta, d.y) / R::splat(PI);
+        (below(u, 1.0 - f32::EPSILON), below(v, 1.0), sin_theta)
     }
 
     /// The world direction of map point (u, v), and sin θ there.
@@ -216,13 +260,15 @@ impl Environment {
     }
 }
 
-/// The solid-angle density of a direction at polar sine `sin_theta` in a cell of 2D
-/// density `density`: the equirectangular map's Jacobian is 2π² sin θ (pbrt-v4 section 12.5.2).
-fn solid_angle_density(density: f32, sin_theta: f32) -> f32 {
-    solid_angle_density_lanes(density, sin_theta)
+/// `x.min(top)` per lane, as `f32::min` gives it (`top` for a NaN).
+#[inline(always)]
+fn below<R: Real>(x: R, top: f32) -> R {
+    R::select(x.cmp_lt(R::splat(top)), x, R::splat(top))
 }
 
-/// [`solid_angle_density`] per lane.
+/// The solid-angle density of a direction at polar sine `sin_theta` in a cell of 2D
+/// density `density`, per lane: the equirectangular map's Jacobian is 2π² sin θ (pbrt-v4
+/// section 12.5.2).
 #[inline(always)]
 fn solid_angle_density_lanes<R: Real>(density: R, sin_theta: R) -> R {
     let zero = R::splat(0.0);
@@ -447,13 +493,13 @@ mod tests {
         let env = Environment::image(map(), Rgb::WHITE, Mat3::from_rotation_y(0.7)).unwrap();
         for (u, v) in [(0.1f32, 0.2f32), (0.5, 0.5), (0.93, 0.81), (0.0, 0.3)] {
             let (d, _) = env.direction(Vec2::new(u, v));
-            let (uv, _) = env.map_coordinates(d);
-            assert!((uv.x - u).abs() < 1e-5 && (uv.y - v).abs() < 1e-5, "{u}, {v} -> {uv}");
+            let (x, y, _) = env.map_coordinates(V3::from(d));
+            assert!((x - u).abs() < 1e-5 && (y - v).abs() < 1e-5, "{u}, {v} -> {x}, {y}");
         }
         // Up is the top row; -z is the left edge (φ = 0), +z the centre column.
         let up = Environment::image(map(), Rgb::WHITE, Mat3::IDENTITY).unwrap();
-        assert!(up.map_coordinates(Vec3::Y).0.y < 1e-6);
-        assert!(up.map_coordinates(Vec3::NEG_Z).0.x < 1e-6);
+        assert!(up.map_coordinates(V3::from(Vec3::Y)).1 < 1e-6);
+        assert!(up.map_coordinates(V3::from(Vec3::NEG_Z)).0 < 1e-6);
     }
 
     #[test]

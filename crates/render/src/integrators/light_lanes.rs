@@ -1,0 +1,89 @@
+//! The light samples of a wavefront depth's shading points: for the kinds whose sampling
+//! has a lane kernel (environment, point, spot, directional; `lights/lanes.rs`), eight
+//! points at a time in SIMD lanes ([`sample_li_lanes`]), area lights one by one. Each
+//! sample is what the light's scalar `sample_li` gives: that is the one-lane instance of
+//! the same kernel.
+
+use crate::lights::lanes::sample_li_lanes;
+use crate::lights::{AreaSampling, Light, LightGather, LightSample};
+use crate::Scene;
+use glam::{Vec2, Vec3};
+
+/// A shading point's light sample to take: the light picked, the point it is seen from,
+/// the sample's two numbers.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct LightRequest {
+    pub light: u32,
+    pub p: Vec3,
+    pub u: Vec2,
+}
+
+/// The samples of `requests`, in their order, into `out`.
+pub(super) fn sample_lights(
+    scene: &Scene,
+    requests: &[LightRequest],
+    sampling: AreaSampling,
+    out: &mut Vec<Option<LightSample>>,
+) {
+    out.clear();
+    out.resize(requests.len(), None);
+    let lights = scene.lights.lights();
+    let kind = |r: &LightRequest| &lights[r.light as usize];
+    in_lanes(requests, out, false, |r| match kind(r) {
+        Light::Environment(e) => Some(e.lanes()),
+        _ => None,
+    });
+    in_lanes(requests, out, true, |r| match kind(r) {
+        Light::Point(l) => Some(l.lanes()),
+        _ => None,
+    });
+    in_lanes(requests, out, true, |r| match kind(r) {
+        Light::Spot(l) => Some(l.lanes()),
+        _ => None,
+    });
+    in_lanes(requests, out, true, |r| match kind(r) {
+        Light::Directional(l) => Some(l.lanes()),
+        _ => None,
+    });
+    for (r, o) in requests.iter().zip(out.iter_mut()) {
+        if let l @ Light::Area(_) = kind(r) {
+            *o = l.sample_li(r.p, r.u, sampling);
+        }
+    }
+}
+
+/// The requests whose light `one` gives a one-lane kernel of kind `G` for, eight at a
+/// time (a last group's spare lanes repeat its last request; their results are dropped).
+fn in_lanes<G: LightGather>(
+    requests: &[LightRequest],
+    out: &mut [Option<LightSample>],
+    delta: bool,
+    one: impl Fn(&LightRequest) -> Option<G>,
+) {
+    let mut group = [0usize; 8];
+    let mut kernels: [Option<G>; 8] = [None; 8];
+    let mut n = 0;
+    let mut flush = |group: &[usize; 8], kernels: &[Option<G>; 8], n: usize| {
+        let at = |k: usize| k.min(n - 1);
+        let Some(last) = kernels[n - 1] else { return };
+        let lights = std::array::from_fn(|k| kernels[at(k)].unwrap_or(last));
+        let p = std::array::from_fn(|k| requests[group[at(k)]].p);
+        let u = std::array::from_fn(|k| requests[group[at(k)]].u);
+        let samples = sample_li_lanes(&lights, &p, &u, delta);
+        for (k, s) in samples.into_iter().take(n).enumerate() {
+            out[group[k]] = s;
+        }
+    };
+    for (j, r) in requests.iter().enumerate() {
+        let Some(g) = one(r) else { continue };
+        (group[n], kernels[n]) = (j, Some(g));
+        n += 1;
+        if n == 8 {
+            flush(&group, &kernels, n);
+            n = 0;
+        }
+    }
+    if n > 0 {
+        flush(&group, &kernels, n);
+    }
+}
