@@ -303,9 +303,25 @@ fn every_level_renders_the_same_bits() {
     // scalar path over spheres, glossy materials and the environment light.
     let mut cbox = repository_scene("cbox-mitsuba.toml", 64, 64);
     cbox.render.sampler = SamplerKind::Sobol;
+    // Path tracing under an environment beside point and spot lights: light samples of
+    // every lane kind, the environment's lookups and the Lambertian mesh's bounce under
+    // the environment in lanes.
+    let env_path = "[render]\nwidth = 48\nheight = 32\nintegrator = \"path\"\nmax_depth = 6\n\
+        [camera]\nposition = [0, 1.2, 4]\ntarget = [0, 0.4, 0]\nfov = 45\n\
+        [environment]\nradiance = [0.4, 0.5, 0.7]\n\
+        [[material]]\nname = \"floor\"\ntype = \"diffuse\"\nreflectance = [0.6, 0.5, 0.4]\n\
+        [[material]]\nname = \"glossy\"\ntype = \"plastic\"\ndiffuse = [0.1, 0.2, 0.4]\nroughness = 0.1\n\
+        [[shape]]\ntype = \"mesh\"\nmaterial = \"floor\"\npositions = [[-4, 0, -4], [4, 0, -4], [4, 0, 4], [-4, 0, 4]]\n\
+        indices = [[0, 2, 1], [0, 3, 2]]\n\
+        [[shape]]\ntype = \"sphere\"\ncenter = [0, 0.5, 0]\nradius = 0.5\nmaterial = \"glossy\"\n\
+        [[light]]\ntype = \"point\"\nposition = [-2, 3, 2]\nintensity = [10, 10, 10]\n\
+        [[light]]\ntype = \"spot\"\nposition = [2, 4, 3]\ntarget = [0, 0, 0]\nintensity = [60, 60, 60]\ncone_angle = 30\n";
+    let env_path =
+        penumbra::scene::formats::native::read(&SourceFile::new("env-path.toml", env_path.to_string())).unwrap();
     let scenes = [
         ("cbox-mitsuba.toml", cbox, 8),
         ("glossy-env.toml", repository_scene("glossy-env.toml", 48, 32), 4),
+        ("env-path.toml", env_path, 4),
         ("materials.toml", repository_scene("materials.toml", 48, 32), 4),
     ];
     for (name, desc, spp) in &scenes {

@@ -115,13 +115,13 @@ fn point_spot_and_directional_lanes_give_the_scalar_bits() {
     }
 }
 
-#[test]
-fn environment_lanes_give_the_scalar_bits() {
+/// A rotated image environment (a bright spot, a black row, which is never sampled, and a
+/// gradient) and a constant one.
+fn environments() -> [Environment; 2] {
     let (width, height) = (16, 8);
     let map = TextureImage {
         width,
         height,
-        // A bright spot, a black row (never sampled) and a gradient.
         pixels: (0..width * height)
             .map(|i| match (i % width, i / width) {
                 (3, 2) => Rgb::new(30.0, 20.0, 10.0),
@@ -132,11 +132,65 @@ fn environment_lanes_give_the_scalar_bits() {
         wrap: Default::default(),
     };
     let rotation = Mat3::from_axis_angle(Vec3::new(0.3, 1.0, 0.2).normalize(), 1.1);
-    let mut rng = Pcg32::new(4, 8);
-    for env in [
+    [
         Environment::image(map, Rgb::new(1.0, 2.0, 0.5), rotation).expect("a valid map"),
         Environment::constant(Rgb::new(0.2, 0.3, 0.4)),
-    ] {
+    ]
+}
+
+/// `Environment::lookup8` (eight directions in lanes at the CPU's SIMD level) gives each
+/// direction the bits of the scalar `lookup`: radiance and density, in cells of every
+/// row (the black row's density 0 included) and along the axes and poles.
+#[test]
+fn environment_lookups_in_eight_lanes_give_the_scalar_bits() {
+    let mut rng = Pcg32::new(9, 2);
+    let axes = [
+        Vec3::X,
+        Vec3::NEG_X,
+        Vec3::Y,
+        Vec3::NEG_Y,
+        Vec3::Z,
+        Vec3::NEG_Z,
+        Vec3::ONE,
+        -Vec3::ONE,
+    ];
+    for env in environments() {
+        let (mut black_row, mut rows) = (0, std::collections::HashSet::new());
+        for round in 0..2_000 {
+            let dirs: [Vec3; 8] = if round == 0 {
+                axes
+            } else {
+                std::array::from_fn(|_| point(&mut rng))
+            };
+            for (d, lane) in dirs.iter().zip(env.lookup8(&dirs)) {
+                let one = env.lookup(*d);
+                assert_eq!(
+                    rgb_bits(env.le_at(&lane)),
+                    rgb_bits(env.le_at(&one)),
+                    "radiance towards {d}"
+                );
+                assert_eq!(
+                    env.pdf_at(&lane).to_bits(),
+                    env.pdf_at(&one).to_bits(),
+                    "density towards {d}"
+                );
+                black_row += (env.pdf_at(&one) == 0.0) as u32;
+                rows.insert(env.pdf_at(&one).to_bits());
+            }
+        }
+        // The image's lookups met the black row and many cells.
+        assert!(
+            rows.len() == 1 || (black_row > 100 && rows.len() > 100),
+            "{black_row}, {}",
+            rows.len()
+        );
+    }
+}
+
+#[test]
+fn environment_lanes_give_the_scalar_bits() {
+    let mut rng = Pcg32::new(4, 8);
+    for env in environments() {
         let lanes = EnvironmentLanes::gather::<F8>(&[env.lanes(); 8]);
         let mut samples = 0;
         for _ in 0..4_000 {
