@@ -229,7 +229,8 @@ fn lane_kernel<L: Lane8>(
         p_pick: c.f8(Columns::P_PICK),
     };
     let env = env.map(Environment::lanes);
-    // (A match, not `Option::map`: no closure makes lane values here.)
+    // A match, not `Option::map`: no closure makes lane values here.
+    #[allow(clippy::manual_map)]
     let env = match &env {
         Some(env) => Some((env, L::mask_of(f.environment))),
         None => None,
