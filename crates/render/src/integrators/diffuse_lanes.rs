@@ -181,9 +181,13 @@ fn light_sample<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, light: &TriangleLig
         pdf,
         ok: R::and(defined, sane),
     };
+    let out = lit_by(h, sh, &sample, light.p_pick);
+    // The shadow ray runs to the light's point.
+    let target = out.origin + wi.scale(dist);
     LightOut {
         by_area,
-        ..lit_by(h, sh, &sample, light.p_pick)
+        dir: target - out.origin,
+        ..out
     }
 }
 
@@ -207,7 +211,8 @@ fn environment_sample<R: Real>(
 /// What the light `s` (picked with probability `p_pick`) brings to `h` if unblocked:
 /// `nee::light_sample`'s steps, the BSDF's value and density towards it (in the frame the
 /// BSDF sees: mirrored where two-sided from behind) and the MIS weight, and its shadow
-/// ray (to the light's point, or along `wi` for a light at infinity).
+/// ray along `wi` (as for a light at infinity; a light at a finite distance sets its own
+/// `dir`, to its point).
 #[inline(always)]
 fn lit_by<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, s: &LaneLightSample<R>, p_pick: R) -> LightOut<R> {
     let one = R::splat(1.0);
@@ -217,8 +222,6 @@ fn lit_by<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, s: &LaneLightSample<R>, p
     let bsdf = DiffuseLanes::new(h.reflectance);
     let f_cos = bsdf.eval(bwo, bl).scale(l.z.abs());
     let origin = sh.origin_towards(wi);
-    let finite = s.dist.is_finite();
-    let target = origin + wi.scale(s.dist);
     let p_bsdf = bsdf.pdf(bwo, bl);
     let mis = Some((MisHeuristic::Power, one, p_bsdf));
     let value = nee::light_value_lanes(f_cos, li, (p_pick, s.pdf, one), mis);
@@ -231,7 +234,7 @@ fn lit_by<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, s: &LaneLightSample<R>, p
         by_area: R::splat_mask(false),
         ok,
         origin,
-        dir: V3::select(finite, target - origin, wi),
+        dir: wi,
         value: h.beta.mul_each(value),
     }
 }

@@ -363,7 +363,7 @@ impl PathTracer {
             Some((v, normal, centroid, light, p_pick))
         };
         // The environment's light samples are taken in the lanes too.
-        let environment = scene.environment();
+        let mut environment = None;
         let rgb = |c: Rgb| Vec3::new(c.r, c.g, c.b);
         let mut c = Columns([[0.0; 8]; Columns::COUNT]);
         let mut f = Flags::default();
@@ -405,15 +405,15 @@ impl PathTracer {
                 c.0[Columns::P_PICK][j] = p_pick;
                 f.light_two_sided[j] = light.two_sided;
                 tris[j] = true;
-            } else if let (Some((index, p_pick)), Some((env, _))) = (picks[j], environment) {
-                if index == env {
+            } else if let Some((index, p_pick)) = picks[j] {
+                if let Some((_, env)) = scene.environment().filter(|e| e.0 == index) {
                     c.0[Columns::P_PICK][j] = p_pick;
                     f.environment[j] = true;
+                    environment = Some(env);
                 }
             }
         }
-        let env = environment.filter(|_| f.environment.iter().any(|&e| e)).map(|e| e.1);
-        let r = run_lane_kernel(&c, &f, env, u_light, u_dir);
+        let r = run_lane_kernel(&c, &f, environment, u_light, u_dir);
         let (by_area, lit, c_ok, c_pdf) = (r.by_area, r.lit, r.c_ok, r.c_pdf);
         // Russian roulette's number for each path that goes on, where it is played.
         let (mut going, mut rank) = ([0usize; 8], [0usize; 8]);
