@@ -10,6 +10,8 @@
 //! pixel radiance and density): what a sample needs then comes with the cache line its
 //! search already read, instead of one more miss in a separate array.
 
+use crate::lanes::Real;
+
 /// Distributions of at most this many items are searched by counting (see `find`).
 const SMALL: usize = 16;
 
@@ -87,13 +89,6 @@ impl<P: Copy> Distribution1D<P> {
     /// (checked, so rounding at a bucket's edge falls back to the whole search).
     fn find(&self, u: f32) -> usize {
         let n = self.len();
-        // A few items (a scene's lights, a mesh light's triangles): count the CDF entries
-        // at or below u without branches. Which item a random u falls in is a coin toss
-        // that a search's branches would mispredict; the count is the search's answer.
-        if n <= SMALL {
-            let count: usize = self.table[..n].iter().map(|e| (e.cdf <= u) as usize).sum();
-            return count.clamp(1, n) - 1;
-        }
         let j = ((u * n as f32) as usize).min(n - 1);
         let (lo, hi) = (self.table[j].guide as usize, self.table[j + 1].guide as usize);
         if !(self.cdf(lo) <= u && (hi == n - 1 || u < self.cdf(hi + 1))) {
@@ -127,18 +122,73 @@ impl<P: Copy> Distribution1D<P> {
 
     /// The item whose CDF interval holds `u` in [0, 1), its probability, and `u` rescaled to
     /// [0, 1) within that interval (so one random number can serve again). Items of zero
-    /// weight are never chosen.
+    /// weight are never chosen. The one-lane instance of [`Distribution1D::sample_lanes`].
     pub fn sample(&self, u: f32) -> (usize, f32, f32) {
-        // One item (a scene's only light): the general path's answer, without its search
-        // and division (pmf 1, and u, already below one, unchanged).
-        if self.len() == 1 {
-            return (0, 1.0, u.clamp(0.0, crate::samplers::ONE_MINUS_EPSILON));
+        if self.len() > SMALL {
+            return self.sample_searched(u);
         }
+        let (i, pmf, rest) = self.sample_lanes(u);
+        (i as usize, pmf, rest)
+    }
+
+    /// [`Distribution1D::sample`] of a distribution of more than a few items: its item
+    /// found by the guide table's search.
+    fn sample_searched(&self, u: f32) -> (usize, f32, f32) {
         let i = self.find(u);
-        let pmf = self.pmf(i);
-        let rest = ((u - self.cdf(i)) / pmf).clamp(0.0, crate::samplers::ONE_MINUS_EPSILON);
+        let (pmf, rest) = rescale(u, self.cdf(i), self.cdf(i + 1));
         (i, pmf, rest)
     }
+
+    /// [`Distribution1D::sample`] per lane: each lane's item (a whole number as a float,
+    /// exact below 2^24), its probability and `u` rescaled. A few items are found by
+    /// counting the CDF entries at or below `u` in lanes (see `find`); more by each lane's
+    /// guide-table search. The floats are the scalar sample's in every lane.
+    #[inline(always)]
+    pub fn sample_lanes<R: Real>(&self, u: R) -> (R, R, R) {
+        let (zero, one) = (R::splat(0.0), R::splat(1.0));
+        let n = self.len();
+        // One item (a scene's only light): the general answer, without its search and
+        // division (pmf 1, and u, already below one, unchanged).
+        if n == 1 {
+            return (zero, one, unit_clamp(u));
+        }
+        if n <= SMALL {
+            // A few items (a scene's lights, a mesh light's triangles): count the CDF
+            // entries at or below u without branches. Which item a random u falls in is a
+            // coin toss that a search's branches would mispredict; the count is the
+            // search's answer.
+            let mut count = zero;
+            for e in &self.table[..n] {
+                count = count + R::select(R::splat(e.cdf).cmp_le(u), one, zero);
+            }
+            // `count.clamp(1, n) - 1`: the count never exceeds n.
+            let i = R::select(count.cmp_lt(one), one, count) - one;
+            let [lo, hi] = R::map_lanes([i], |_, [i]| [self.cdf(i as usize), self.cdf(i as usize + 1)]);
+            let (pmf, rest) = rescale(u, lo, hi);
+            return (i, pmf, rest);
+        }
+        let [i, pmf, rest] = R::map_lanes([u], |_, [u]| {
+            let (i, pmf, rest) = self.sample_searched(u);
+            [i as f32, pmf, rest]
+        });
+        (i, pmf, rest)
+    }
+}
+
+/// The probability of the item whose CDF interval is [`lo`, `hi`), and `u` rescaled to
+/// [0, 1) within it.
+#[inline(always)]
+fn rescale<R: Real>(u: R, lo: R, hi: R) -> (R, R) {
+    let pmf = hi - lo;
+    (pmf, unit_clamp((u - lo) / pmf))
+}
+
+/// `x.clamp(0.0, ONE_MINUS_EPSILON)` per lane, as `f32::clamp` gives it (NaN kept).
+#[inline(always)]
+fn unit_clamp<R: Real>(x: R) -> R {
+    let (zero, top) = (R::splat(0.0), R::splat(crate::samplers::ONE_MINUS_EPSILON));
+    let x = R::select(x.cmp_lt(zero), zero, x);
+    R::select(x.cmp_gt(top), top, x)
 }
 
 /// A piecewise-constant density over the unit square from a `width` x `height` grid of
@@ -297,10 +347,13 @@ mod tests {
         assert_eq!(d.sample(0.25).0, 2, "u on a boundary goes to the next non-empty item");
     }
 
-    /// The guide table's search gives the whole search's item for every u, on spiky,
-    /// sparse and flat weights, at random u, at the buckets' edges and just below them.
+    /// The guide table's search and the sample (by counting, for a few items) give the
+    /// whole search's item for every u, on spiky, sparse, flat and few weights, at random
+    /// u, at the buckets' edges and just below them; the sample in eight lanes gives the
+    /// scalar one's bits.
     #[test]
     fn the_guide_table_finds_what_the_whole_search_finds() {
+        use crate::lanes::{Lane8, F8};
         let mut rng = crate::Pcg32::new(3, 8);
         let mut spiky: Vec<f32> = (0..513).map(|_| rng.next_f32() * 1e-4).collect();
         spiky[200] = 1e3;
@@ -322,8 +375,25 @@ mod tests {
                 [e, e.next_down().max(0.0), e.next_up()]
             });
             let random = (0..20_000).map(|_| rng.next_f32());
-            for u in edges.chain(random).filter(|u| (0.0..1.0).contains(u)) {
+            let us: Vec<f32> = edges.chain(random).filter(|u| (0.0..1.0).contains(u)).collect();
+            for &u in &us {
                 assert_eq!(d.find(u), d.search(u), "u {u} over {} items", d.len());
+                assert_eq!(d.sample(u).0, d.search(u), "u {u} over {} items", d.len());
+            }
+            // Eight lanes give each number the scalar sample's bits.
+            for chunk in us.chunks_exact(8) {
+                let u: [f32; 8] = chunk.try_into().unwrap();
+                let (i, pmf, rest) = d.sample_lanes(F8::from_array(u));
+                let (i, pmf, rest) = (i.to_array(), pmf.to_array(), rest.to_array());
+                for (k, &u) in u.iter().enumerate() {
+                    let (si, spmf, srest) = d.sample(u);
+                    assert_eq!(i[k] as usize, si, "u {u}");
+                    assert_eq!(
+                        (pmf[k].to_bits(), rest[k].to_bits()),
+                        (spmf.to_bits(), srest.to_bits()),
+                        "u {u}"
+                    );
+                }
             }
         }
     }

@@ -187,13 +187,14 @@ struct LaneResults {
 /// The lanes' arithmetic: the surfaces ([`triangle_surface_lanes`]) and the bounce
 /// ([`diffuse_lanes::bounce`]), in lane type `L`.
 #[inline(always)]
-fn lane_kernel<L: Lane8>(
-    c: &Columns,
-    f: &Flags,
-    env: Option<&Environment>,
-    u_light: ([f32; 8], [f32; 8]),
-    u_dir: ([f32; 8], [f32; 8]),
-) -> LaneResults {
+fn lane_kernel<L: Lane8>(input: &LaneInput) -> LaneResults {
+    let LaneInput {
+        columns: c,
+        flags: f,
+        env,
+        u_light,
+        u_dir,
+    } = input;
     // No closure makes lane values here: `array::map` and the like are not inlined, and
     // a closure compiled apart from this kernel lacks its SIMD level (its intrinsics
     // become calls).
@@ -267,26 +268,29 @@ fn lane_kernel<L: Lane8>(
 
 /// [`lane_kernel`] at the SIMD level the CPU runs ([`penumbra_core::simd::level`]); the same floats at
 /// every level.
-fn run_lane_kernel(
-    c: &Columns,
-    f: &Flags,
-    env: Option<&Environment>,
-    u_light: ([f32; 8], [f32; 8]),
-    u_dir: ([f32; 8], [f32; 8]),
-) -> LaneResults {
-    type U = ([f32; 8], [f32; 8]);
+fn run_lane_kernel(input: &LaneInput) -> LaneResults {
     #[cfg(target_arch = "x86_64")]
     penumbra_core::level_fns! {
         /// The kernel compiled for AVX2 and for AVX-512, in `F8Avx` lanes.
-        unsafe fn [avx2, avx512](c: &Columns, f: &Flags, env: Option<&Environment>, u_light: U, u_dir: U) -> LaneResults {
-            lane_kernel::<F8Avx>(c, f, env, u_light, u_dir)
+        unsafe fn [avx2, avx512](input: &LaneInput) -> LaneResults {
+            lane_kernel::<F8Avx>(input)
         }
     }
     penumbra_core::at_level!(
-        avx512: avx512(c, f, env, u_light, u_dir),
-        avx2: avx2(c, f, env, u_light, u_dir),
-        portable: lane_kernel::<F8>(c, f, env, u_light, u_dir),
+        avx512: avx512(input),
+        avx2: avx2(input),
+        portable: lane_kernel::<F8>(input),
     )
+}
+
+/// What the lane kernel takes: the gathered columns and flags, the environment where a
+/// lane picked it, and the light sample's and the continuation's numbers.
+struct LaneInput<'a> {
+    columns: &'a Columns,
+    flags: &'a Flags,
+    env: Option<&'a Environment>,
+    u_light: ([f32; 8], [f32; 8]),
+    u_dir: ([f32; 8], [f32; 8]),
 }
 
 /// The three components of eight lanes' vectors, each as stored from its register.
@@ -352,7 +356,10 @@ impl PathTracer {
         let idx = &path_of[..n];
         let [(u_pick, _), u_light, u_dir] =
             PixelSampler::draws_lanes(samplers, idx, [(0, false), (1, true), (3, true)], 4);
-        let picks: [_; 8] = std::array::from_fn(|j| scene.lights.pick(selection, u_pick[j]));
+        // The lights picked, in lanes (`LightSet::pick`'s floats).
+        let (pick_i, pick_p) = scene.lights.pick_lanes(selection, F8::from_array(u_pick));
+        let (pick_i, pick_p) = (pick_i.to_array(), pick_p.to_array());
+        let picks: [_; 8] = std::array::from_fn(|j| (pick_i[j] >= 0.0).then_some((pick_i[j] as u32, pick_p[j])));
         let triangle = |j: usize| {
             let (index, p_pick) = picks[j]?;
             // Textured lights take the scalar light sample, which looks the texture up.
@@ -413,7 +420,13 @@ impl PathTracer {
                 }
             }
         }
-        let r = run_lane_kernel(&c, &f, environment, u_light, u_dir);
+        let r = run_lane_kernel(&LaneInput {
+            columns: &c,
+            flags: &f,
+            env: environment,
+            u_light,
+            u_dir,
+        });
         let (by_area, lit, c_ok, c_pdf) = (r.by_area, r.lit, r.c_ok, r.c_pdf);
         // Russian roulette's number for each path that goes on, where it is played.
         let (mut going, mut rank) = ([0usize; 8], [0usize; 8]);

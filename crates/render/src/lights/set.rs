@@ -6,6 +6,7 @@
 //! a light is chosen by power (for a mesh: by triangle area).
 
 use super::{AreaLight, Light};
+use penumbra_core::lanes::Real;
 use penumbra_core::Distribution1D;
 use std::ops::Range;
 
@@ -158,24 +159,48 @@ impl LightSet {
     }
 
     /// A light chosen by `selection` and its probability. [`LightSelection::All`] is meant
-    /// for [`LightSet::pick_in_group`], object by object; here it picks by power.
+    /// for [`LightSet::pick_in_group`], object by object; here it picks by power. The
+    /// one-lane instance of [`LightSet::pick_lanes`].
     pub fn pick(&self, selection: LightSelection, u: f32) -> Option<(u32, f32)> {
+        let (i, pmf) = self.pick_lanes(selection, u);
+        (i >= 0.0).then_some((i as u32, pmf))
+    }
+
+    /// [`LightSet::pick`] per lane: each lane's light (its index as a float, exact below
+    /// 2^24; -1 where there is none) and its probability. By power in lanes
+    /// ([`Distribution1D::sample_lanes`]); uniformly over objects, each lane's pick within
+    /// its object one by one.
+    #[inline(always)]
+    pub fn pick_lanes<R: Real>(&self, selection: LightSelection, u: R) -> (R, R) {
+        let none = (R::splat(-1.0), R::splat(0.0));
         match selection {
-            LightSelection::Power | LightSelection::All => {
-                let (i, pmf, _) = self.by_power.as_ref()?.sample(u);
-                Some((i as u32, pmf))
-            }
-            LightSelection::Uniform => {
-                let n = self.groups.len();
-                if n == 0 {
-                    return None;
+            LightSelection::Power | LightSelection::All => match &self.by_power {
+                Some(d) => {
+                    let (i, pmf, _) = d.sample_lanes(u);
+                    (i, pmf)
                 }
-                let g = ((u * n as f32) as usize).min(n - 1);
-                let rest = (u * n as f32 - g as f32).clamp(0.0, penumbra_core::samplers::ONE_MINUS_EPSILON);
-                let (i, pmf) = self.pick_in_group(g, rest)?;
-                Some((i, pmf / n as f32))
+                None => none,
+            },
+            LightSelection::Uniform => {
+                let [i, pmf] = R::map_lanes([u], |_, [u]| match self.pick_uniformly(u) {
+                    Some((i, pmf)) => [i as f32, pmf],
+                    None => [-1.0, 0.0],
+                });
+                (i, pmf)
             }
         }
+    }
+
+    /// [`LightSelection::Uniform`]'s pick: an object uniformly, then a light within it.
+    fn pick_uniformly(&self, u: f32) -> Option<(u32, f32)> {
+        let n = self.groups.len();
+        if n == 0 {
+            return None;
+        }
+        let g = ((u * n as f32) as usize).min(n - 1);
+        let rest = (u * n as f32 - g as f32).clamp(0.0, penumbra_core::samplers::ONE_MINUS_EPSILON);
+        let (i, pmf) = self.pick_in_group(g, rest)?;
+        Some((i, pmf / n as f32))
     }
 
     /// The probability that `selection` picks light `index` for one shadow ray (for
