@@ -146,15 +146,18 @@ pub(super) fn bounce<R: Real>(
 ) -> (LightOut<R>, ContinuationOut<R>) {
     let sh = Shading::new(h);
     let mut lo = light_sample(h, &sh, light, u_light);
-    if let Some((env, lanes)) = env.filter(|(_, lanes)| R::any(*lanes)) {
-        let e = environment_sample(h, &sh, env, light.p_pick, u_light);
-        lo = LightOut {
-            by_area: R::select_mask(lanes, e.by_area, lo.by_area),
-            ok: R::select_mask(lanes, e.ok, lo.ok),
-            origin: V3::select(lanes, e.origin, lo.origin),
-            dir: V3::select(lanes, e.dir, lo.dir),
-            value: V3::select(lanes, e.value, lo.value),
-        };
+    // (No closure here: one would be compiled apart from the kernel's SIMD level.)
+    if let Some((env, lanes)) = env {
+        if R::any(lanes) {
+            let e = environment_sample(h, &sh, env, light.p_pick, u_light);
+            lo = LightOut {
+                by_area: R::select_mask(lanes, e.by_area, lo.by_area),
+                ok: R::select_mask(lanes, e.ok, lo.ok),
+                origin: V3::select(lanes, e.origin, lo.origin),
+                dir: V3::select(lanes, e.dir, lo.dir),
+                value: V3::select(lanes, e.value, lo.value),
+            };
+        }
     }
     (lo, continuation(h, &sh, u_dir))
 }
