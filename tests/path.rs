@@ -411,8 +411,9 @@ fn a_disk_reflects_the_half_of_the_environment_map_above_it() {
 /// has lanes of its own), one- and two-sided diffuse seen from both sides, meshes with and
 /// without vertex normals and UVs (normals against the winding too), glossy and glass
 /// neighbours (paths leaving the lanes and coming back), Russian roulette from depth 1,
-/// environments (an image and a constant one, the latter beside lights of every other
-/// kind), whose light samples the lanes take.
+/// environments, whose light samples the lanes take (the mixed scene under a constant and
+/// under an image map, beside lights of every other kind; glossy-env, whose quad floor
+/// is not a mesh, for the other shading points' samples in lanes).
 #[test]
 fn diffuse_lanes_equal_the_scalar_bounce() {
     use penumbra::renderer::integrators::PathTracer;
@@ -450,6 +451,11 @@ fn diffuse_lanes_equal_the_scalar_bounce() {
         SourceFile::new(
             "mixed-env.toml",
             format!("{mixed}[environment]\nradiance = [0.3, 0.4, 0.5]\n"),
+        ),
+        // In the repository's scenes folder, where its map `sky.pfm` is.
+        SourceFile::new(
+            format!("{}/scenes/mixed-sky.toml", env!("CARGO_MANIFEST_DIR")),
+            format!("{mixed}[environment]\nfile = \"sky.pfm\"\n"),
         ),
     ]);
     for (file, sampler) in descs.flat_map(|f| [(f.clone(), SamplerKind::Sobol), (f, SamplerKind::Independent)]) {

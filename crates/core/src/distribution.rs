@@ -141,7 +141,7 @@ impl<P: Copy> Distribution1D<P> {
 
     /// [`Distribution1D::sample`] per lane: each lane's item (a whole number as a float,
     /// exact below 2^24), its probability and `u` rescaled. A few items are found by
-    /// counting the CDF entries at or below `u` in lanes (see `find`); more by each lane's
+    /// counting the CDF entries at or below `u` in lanes; more by each lane's
     /// guide-table search. The floats are the scalar sample's in every lane.
     #[inline(always)]
     pub fn sample_lanes<R: Real>(&self, u: R) -> (R, R, R) {

@@ -29,22 +29,16 @@ pub(super) fn sample_lights(
     out.resize(requests.len(), None);
     let lights = scene.lights.lights();
     let kind = |r: &LightRequest| &lights[r.light as usize];
-    in_lanes(requests, out, false, |r| match kind(r) {
-        Light::Environment(e) => Some(e.lanes()),
-        _ => None,
-    });
-    in_lanes(requests, out, true, |r| match kind(r) {
-        Light::Point(l) => Some(l.lanes()),
-        _ => None,
-    });
-    in_lanes(requests, out, true, |r| match kind(r) {
-        Light::Spot(l) => Some(l.lanes()),
-        _ => None,
-    });
-    in_lanes(requests, out, true, |r| match kind(r) {
-        Light::Directional(l) => Some(l.lanes()),
-        _ => None,
-    });
+    // Each kind with a lane kernel, and whether its samples are delta ones.
+    macro_rules! in_lanes_of {
+        ($($variant:ident: $delta:expr),*) => {$(
+            in_lanes(requests, out, $delta, |r| match kind(r) {
+                Light::$variant(l) => Some(l.lanes()),
+                _ => None,
+            });
+        )*};
+    }
+    in_lanes_of!(Environment: false, Point: true, Spot: true, Directional: true);
     for (r, o) in requests.iter().zip(out.iter_mut()) {
         if let l @ Light::Area(_) = kind(r) {
             *o = l.sample_li(r.p, r.u, sampling);
@@ -61,12 +55,12 @@ fn in_lanes<G: LightGather>(
     one: impl Fn(&LightRequest) -> Option<G>,
 ) {
     let mut group = [0usize; 8];
-    let mut kernels: [Option<G>; 8] = [None; 8];
+    // Filled whole by a group's first kernel, so that no lane is ever unset.
+    let mut kernels: Option<[G; 8]> = None;
     let mut n = 0;
-    let mut flush = |group: &[usize; 8], kernels: &[Option<G>; 8], n: usize| {
+    let mut flush = |group: &[usize; 8], kernels: &[G; 8], n: usize| {
         let at = |k: usize| k.min(n - 1);
-        let Some(last) = kernels[n - 1] else { return };
-        let lights = std::array::from_fn(|k| kernels[at(k)].unwrap_or(last));
+        let lights = std::array::from_fn(|k| kernels[at(k)]);
         let p = std::array::from_fn(|k| requests[group[at(k)]].p);
         let u = std::array::from_fn(|k| requests[group[at(k)]].u);
         let samples = sample_li_lanes(&lights, &p, &u, delta);
@@ -76,14 +70,15 @@ fn in_lanes<G: LightGather>(
     };
     for (j, r) in requests.iter().enumerate() {
         let Some(g) = one(r) else { continue };
-        (group[n], kernels[n]) = (j, Some(g));
+        let ks = kernels.get_or_insert([g; 8]);
+        (group[n], ks[n]) = (j, g);
         n += 1;
         if n == 8 {
-            flush(&group, &kernels, n);
+            flush(&group, ks, n);
             n = 0;
         }
     }
-    if n > 0 {
-        flush(&group, &kernels, n);
+    if let Some(ks) = kernels.filter(|_| n > 0) {
+        flush(&group, &ks, n);
     }
 }
