@@ -133,6 +133,20 @@ impl<P: Copy> Distribution1D<P> {
 
     /// [`Distribution1D::sample`] of a distribution of more than a few items: its item
     /// found by the guide table's search.
+    /// Asks the caches for the entries a sample with `u` reads: the ends of its guide
+    /// table's bucket (the guide entries themselves are read here, and no branch waits on
+    /// them, so the loads of several lanes' calls overlap).
+    #[inline]
+    fn prefetch_sample(&self, u: f32) {
+        let n = self.len();
+        if n > SMALL {
+            let j = ((u * n as f32) as usize).min(n - 1);
+            let (lo, hi) = (self.table[j].guide as usize, self.table[j + 1].guide as usize);
+            crate::simd::prefetch(&self.table[lo]);
+            crate::simd::prefetch(&self.table[hi + 1]);
+        }
+    }
+
     fn sample_searched(&self, u: f32) -> (usize, f32, f32) {
         let i = self.find(u);
         let (pmf, rest) = rescale(u, self.cdf(i), self.cdf(i + 1));
@@ -257,9 +271,29 @@ impl<P: Copy> Distribution2D<P> {
 
     /// [`Distribution2D::sample`] with the payload of the cell the point lies in.
     pub fn sample_item(&self, u: [f32; 2]) -> ([f32; 2], f32, P) {
-        let (y, py, rest_y) = self.marginal.sample(u[1]);
+        self.sample_in_row(u[0], self.sample_row(u))
+    }
+
+    /// The first half of [`Distribution2D::sample_item`]: the row `u[1]` picks (its number,
+    /// probability and `u[1]` rescaled within it), having asked the caches for the row's
+    /// entries that [`Distribution2D::sample_in_row`] with `u[0]` starts from. Lanes that
+    /// take their rows first and finish after wait on their rows' memory together.
+    #[inline]
+    pub fn sample_row(&self, u: [f32; 2]) -> (usize, f32, f32) {
+        let picked = self.marginal.sample(u[1]);
+        if let Some(row) = &self.rows[picked.0] {
+            row.prefetch_sample(u[0]);
+        }
+        picked
+    }
+
+    /// The second half of [`Distribution2D::sample_item`]: the point in the row `picked`
+    /// ([`Distribution2D::sample_row`]'s answer) that `u0` picks, its density and payload.
+    #[inline]
+    pub fn sample_in_row(&self, u0: f32, picked: (usize, f32, f32)) -> ([f32; 2], f32, P) {
+        let (y, py, rest_y) = picked;
         let row = self.rows[y].as_ref().expect("rows of zero weight are never chosen");
-        let (x, px, rest_x) = row.sample(u[0]);
+        let (x, px, rest_x) = row.sample(u0);
         // Kept inside the chosen cell (x + rest can round up to the next one).
         let within =
             |i: usize, rest: f32, n: usize| ((i as f32 + rest) / n as f32).min(((i + 1) as f32 / n as f32).next_down());
@@ -281,6 +315,16 @@ impl<P: Copy> Distribution2D<P> {
             return 0.0;
         };
         self.marginal.pmf(y) * row.pmf(x) * (self.width * self.height) as f32
+    }
+
+    /// Asks the caches for the entry [`Distribution2D::item_at`] reads for `p` (see
+    /// [`Distribution2D::sample_row`]).
+    #[inline]
+    pub fn prefetch_at(&self, p: [f32; 2]) {
+        let (x, y) = self.cell(p);
+        if let Some(row) = &self.rows[y] {
+            crate::simd::prefetch(&row.table[x]);
+        }
     }
 
     /// The payload of the cell holding point `p`; `None` in a row of zero weight.

@@ -303,14 +303,8 @@ impl<P: PrimitiveSet> Bvh<P> {
 /// are more likely there, which helps incoherent rays most.
 #[inline(always)]
 fn prefetch(node: Option<&WideNode>) {
-    #[cfg(target_arch = "x86_64")]
     if let Some(node) = node {
-        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        let p = node as *const WideNode as *const i8;
-        for line in (0..std::mem::size_of::<WideNode>()).step_by(64) {
-            // SAFETY: a prefetch is only a hint, and the address lies inside `node`.
-            unsafe { _mm_prefetch(p.add(line), _MM_HINT_T0) };
-        }
+        penumbra_core::simd::prefetch(node);
     }
 }
 

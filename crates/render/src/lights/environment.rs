@@ -144,6 +144,11 @@ impl Environment {
         // Each lane's cell: its radiance and 2D density; -1 for a row of zero weight
         // (never sampled, density 0), whose radiance (black, unless the scale has no
         // luminance) comes from the image.
+        // Every lane's cell asked of the caches first, so that the lanes' reads overlap.
+        let [] = R::map_lanes([u, v], |_, p| {
+            distribution.prefetch_at(p);
+            []
+        });
         let [r, g, b, density] = R::map_lanes([u, v], |_, [u, v]| match distribution.item_at([u, v]) {
             Some(texel) => {
                 let t = &texel.radiance;
@@ -328,8 +333,14 @@ impl EnvironmentLanes<'_> {
             ),
             Some((_, distribution)) => {
                 // Each lane's cell: its point (x, y) in the map, radiance and 2D density.
-                let [x, y, r, g, b, density] = R::map_lanes([u.0, u.1], |_, u| {
-                    let ([x, y], _, texel) = distribution.sample_item(u);
+                // Every lane's row first, then every lane's point in it: the lanes'
+                // reads of their rows (most of a large map is not in the caches) overlap.
+                let [row, p_row, rest] = R::map_lanes([u.0, u.1], |_, u| {
+                    let (row, p_row, rest) = distribution.sample_row(u);
+                    [row as f32, p_row, rest]
+                });
+                let [x, y, r, g, b, density] = R::map_lanes([u.0, row, p_row, rest], |_, [u0, row, p_row, rest]| {
+                    let ([x, y], _, texel) = distribution.sample_in_row(u0, (row as usize, p_row, rest));
                     let t = &texel.radiance;
                     [x, y, t.r, t.g, t.b, texel.density]
                 });
