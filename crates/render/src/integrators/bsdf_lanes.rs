@@ -121,6 +121,7 @@ lane_kinds! {
     conductor: Conductor,
     dielectric: Dielectric,
     plastic: Plastic,
+    phong: Phong,
 }
 
 /// One point's answers from its scalar BSDF.
@@ -258,16 +259,17 @@ fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::materials::{ConductorMaterial, DielectricMaterial, DiffuseMaterial, Roughness};
+    use crate::materials::{ConductorMaterial, DielectricMaterial, DiffuseMaterial, Phong, Roughness};
     use crate::{Interaction, Material, Texture};
     use penumbra_core::Pcg32;
     use penumbra_geometry::SurfaceHit;
 
-    /// A material of lane kind `k % 4`, rough where `k / 4` is odd.
+    /// A material of lane kind `k % 5`, rough (Phong: a low exponent, with a mirror and an
+    /// interface) where `k / 5` is odd.
     fn parts(rng: &mut Pcg32, k: usize) -> Material {
         let c = |rng: &mut Pcg32| Texture::Constant(Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()));
-        let rough = (k / 4 % 2 == 1).then(|| Roughness::isotropic(0.1 + 0.3 * rng.next_f32()));
-        match k % 4 {
+        let rough = (k / 5 % 2 == 1).then(|| Roughness::isotropic(0.1 + 0.3 * rng.next_f32()));
+        match k % 5 {
             0 => Material::Diffuse(DiffuseMaterial { reflectance: c(rng) }),
             1 => Material::Conductor(ConductorMaterial {
                 specular: c(rng),
@@ -279,7 +281,18 @@ mod tests {
                 roughness: rough,
                 ..DielectricMaterial::default()
             }),
-            _ => Material::plastic(c(rng), Texture::Constant(Rgb::WHITE), 1.5, rough),
+            3 => Material::plastic(c(rng), Texture::Constant(Rgb::WHITE), 1.5, rough),
+            _ => {
+                let glossy = rough.is_some();
+                Material::Phong(Phong {
+                    diffuse: c(rng),
+                    specular: Rgb::splat(0.3 * rng.next_f32()),
+                    exponent: if glossy { 5.0 + 20.0 * rng.next_f32() } else { 200.0 },
+                    mirror: Rgb::splat(if glossy { 0.2 } else { 0.0 }),
+                    transmission: Rgb::splat(if glossy { 0.3 } else { 0.0 }),
+                    ..Phong::default()
+                })
+            }
         }
     }
 
@@ -291,11 +304,11 @@ mod tests {
     fn blends_answered_in_lanes_give_the_scalar_answers() {
         let mut rng = Pcg32::new(21, 7);
         let mut materials = Vec::new();
-        for i in 0..160 {
+        for i in 0..250 {
             // Every pair of kinds, each part smooth and rough.
             let (a, b) = (
-                parts(&mut rng, i % 4 + 4 * (i / 16)),
-                parts(&mut rng, i / 4 % 4 + 4 * (i / 32)),
+                parts(&mut rng, i % 5 + 5 * (i / 25)),
+                parts(&mut rng, i / 5 % 5 + 5 * (i / 50)),
             );
             let a = if i % 11 == 0 {
                 Material::TwoSided(Box::new(a))
