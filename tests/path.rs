@@ -413,7 +413,8 @@ fn a_disk_reflects_the_half_of_the_environment_map_above_it() {
 /// neighbours (paths leaving the lanes and coming back), Russian roulette from depth 1,
 /// environments, whose light samples the lanes take (the mixed scene under a constant and
 /// under an image map, beside lights of every other kind; glossy-env, whose quad floor
-/// is not a mesh, for the other shading points' samples in lanes).
+/// is not a mesh, for the other shading points' samples in lanes), a textured mesh (a
+/// checker whose black checks take the one-path bounce).
 #[test]
 fn diffuse_lanes_equal_the_scalar_bounce() {
     use penumbra::renderer::integrators::PathTracer;
@@ -424,12 +425,16 @@ fn diffuse_lanes_equal_the_scalar_bounce() {
         [[material]]\nname = \"front\"\ntype = \"diffuse\"\nreflectance = [0.7, 0.6, 0.5]\ntwo_sided = false\n\
         [[material]]\nname = \"both\"\ntype = \"diffuse\"\nreflectance = [0.3, 0.8, 0.4]\n\
         [[material]]\nname = \"glass\"\ntype = \"dielectric\"\nior = 1.5\n\
+        [[material]]\nname = \"checks\"\ntype = \"diffuse\"\n\
+        reflectance = { type = \"checker\", even = [0.6, 0.5, 0.2], odd = [0, 0, 0], size = 0.25 }\n\
         [[shape]]\ntype = \"quad\"\ncorner = [-3, 0, 3]\nedge1 = [6, 0, 0]\nedge2 = [0, 0, -6]\nmaterial = \"front\"\n\
         [[shape]]\ntype = \"quad\"\ncorner = [-3, 0, -1]\nedge1 = [0, 3, 0]\nedge2 = [6, 0, 0]\nmaterial = \"front\"\n\
         [[shape]]\ntype = \"mesh\"\nmaterial = \"both\"\npositions = [[-1, 0, 0], [0, 1.5, 0.5], [1, 0, 0]]\nindices = [[0, 1, 2]]\n\
         normals = [[0, 0.3, 1], [0.5, 0, 1], [-0.4, -0.2, 1]]\nuvs = [[0, 0], [0.5, 1], [1, 0.2]]\n\
         [[shape]]\ntype = \"mesh\"\nmaterial = \"front\"\npositions = [[1.6, 0, -0.5], [2.4, 0, -0.5], [2, 1.2, -0.2]]\nindices = [[0, 1, 2]]\n\
         normals = [[0, 0, -1], [0.2, 0, -1], [0, 0.3, -1]]\n\
+        [[shape]]\ntype = \"mesh\"\nmaterial = \"checks\"\npositions = [[-2.5, 0.01, 0.5], [-0.5, 0.01, 0.5], [-1.5, 0.01, -0.8]]\n\
+        indices = [[0, 1, 2]]\nuvs = [[0, 0], [1, 0], [0.5, 1]]\n\
         [[shape]]\ntype = \"sphere\"\ncenter = [1.2, 0.5, 1]\nradius = 0.4\nmaterial = \"glass\"\n\
         [[shape]]\ntype = \"mesh\"\nmaterial = \"both\"\npositions = [[-0.4, 2, -0.9], [0.4, 2, -0.9], [0, 2, -0.3]]\nindices = [[0, 1, 2]]\nemission = [8, 8, 8]\ntwo_sided = true\n\
         [[shape]]\ntype = \"sphere\"\ncenter = [-1.5, 1.5, 0.5]\nradius = 0.2\nmaterial = \"both\"\nemission = [5, 4, 3]\n\

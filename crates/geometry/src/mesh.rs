@@ -160,6 +160,18 @@ impl TriangleMesh {
         self.indices[tri].map(|i| self.positions[i as usize])
     }
 
+    /// The texture coordinates at barycentrics `b` of triangle `tri` (`b` itself for a
+    /// mesh without any): the floats the hit's surface gets.
+    pub fn uv_at(&self, tri: usize, b: Vec2) -> Vec2 {
+        match &self.uvs {
+            Some(uvs) => {
+                let [t0, t1, t2] = self.indices[tri].map(|i| uvs[i as usize]);
+                (1.0 - b.x - b.y) * t0 + b.x * t1 + b.y * t2
+            }
+            None => b,
+        }
+    }
+
     pub fn triangle_bounds(&self, tri: usize) -> Aabb {
         Aabb::from_points(self.vertices(tri))
     }

@@ -31,14 +31,16 @@ pub(super) struct DiffuseLane<'s> {
     triangle: u32,
     /// The hit's barycentric coordinates.
     b: Vec2,
+    /// The reflectance at the hit: the mesh's constant, or its texture's value there.
+    reflectance: Rgb,
 }
 
 /// A world-space mesh whose triangles take the eight-lane bounce: its object, and its
-/// material's colour and sidedness.
+/// material's colour (`None`: a texture, looked up per hit) and sidedness.
 #[derive(Clone, Copy, Debug)]
 pub struct LaneMesh {
     object: u32,
-    reflectance: Rgb,
+    reflectance: Option<Rgb>,
     two_sided: bool,
 }
 
@@ -68,7 +70,11 @@ fn lane_meshes(scene: &Scene) -> Vec<Option<LaneMesh>> {
         .meshes()
         .iter()
         .map(|&(_, object)| {
-            let (reflectance, two_sided) = plain_diffuse(scene.material_of(object))?;
+            let (texture, two_sided) = plain_diffuse(scene.material_of(object))?;
+            let reflectance = match texture {
+                Texture::Constant(c) => Some(*c),
+                _ => None,
+            };
             (!scene.lights.emits(object)).then_some(LaneMesh {
                 object,
                 reflectance,
@@ -96,19 +102,23 @@ fn lane_interaction<'s>(d: &DiffuseLane, material: &'s Material, j: usize, r: &L
     }
 }
 
-/// The colour and sidedness of a material the eight-lane bounce takes: Lambertian with a
-/// constant, non-black, finite reflectance (the scalar BSDF rejects a non-finite sample
-/// weight), one- or two-sided, no normal map.
-fn plain_diffuse(material: &Material) -> Option<(Rgb, bool)> {
-    let constant = |m: &Material| match m {
-        Material::Diffuse(DiffuseMaterial {
-            reflectance: Texture::Constant(c),
-        }) if !c.is_black() && c.is_finite() => Some(*c),
-        _ => None,
-    };
+/// The reflectance and sidedness of a material the eight-lane bounce takes: Lambertian,
+/// one- or two-sided, no normal map, its reflectance a texture or a non-black, finite
+/// constant. (A black reflectance makes the scalar BSDF skip its light sample, and it
+/// rejects a non-finite sample weight: a texture's value is checked per hit.)
+fn plain_diffuse(material: &Material) -> Option<(&Texture, bool)> {
+    fn diffuse(m: &Material) -> Option<&Texture> {
+        match m {
+            Material::Diffuse(DiffuseMaterial { reflectance }) => match reflectance {
+                Texture::Constant(c) if c.is_black() || !c.is_finite() => None,
+                texture => Some(texture),
+            },
+            _ => None,
+        }
+    }
     match material {
-        Material::TwoSided(inner) => constant(inner).map(|c| (c, true)),
-        m => constant(m).map(|c| (c, false)),
+        Material::TwoSided(inner) => diffuse(inner).map(|t| (t, true)),
+        m => diffuse(m).map(|t| (t, false)),
     }
 }
 
@@ -322,12 +332,28 @@ impl PathTracer {
             return None;
         }
         let (mesh, triangle) = scene.geometry.pooled_index(hit)?;
+        let lane = lanes.get(mesh)?.as_ref()?;
+        let mesh = &scene.geometry.meshes()[mesh].0;
+        let reflectance = match lane.reflectance {
+            Some(c) => c,
+            None => {
+                // The texture at the hit's coordinates, as the scalar BSDF looks it up; a
+                // black or non-finite value takes the one-path bounce (see `plain_diffuse`).
+                let (texture, _) = plain_diffuse(scene.material_of(lane.object))?;
+                let c = texture.eval(mesh.uv_at(triangle as usize, hit.uv));
+                if c.is_black() || !c.is_finite() {
+                    return None;
+                }
+                c
+            }
+        };
         Some(DiffuseLane {
             k,
-            lane: lanes.get(mesh)?.as_ref()?,
-            mesh: &scene.geometry.meshes()[mesh].0,
+            lane,
+            mesh,
             triangle,
             b: hit.uv,
+            reflectance,
         })
     }
 
@@ -398,7 +424,7 @@ impl PathTracer {
             c.0[Columns::B + 1][j] = d.b.y;
             let path = &paths[path_of[j]];
             c.put(Columns::DIR, j, path.ray.dir);
-            c.put(Columns::REFLECTANCE, j, rgb(d.lane.reflectance));
+            c.put(Columns::REFLECTANCE, j, rgb(d.reflectance));
             c.put(Columns::BETA, j, rgb(path.beta));
             f.two_sided[j] = d.lane.two_sided;
             if let Some((v, normal, centroid, light, p_pick)) = triangle(j) {
