@@ -174,7 +174,7 @@ pub fn prefetch<T>(value: &T) {
         let size = std::mem::size_of::<T>().max(1);
         // Every 64 bytes from the start, and the last byte unless the value fills whole
         // lines: each line the value touches.
-        let whole_lines = size % 64 == 0 && std::mem::align_of::<T>() % 64 == 0;
+        let whole_lines = size.is_multiple_of(64) && std::mem::align_of::<T>().is_multiple_of(64);
         let last = (!whole_lines).then_some(size - 1);
         for offset in (0..size).step_by(64).chain(last) {
             // SAFETY: a prefetch is only a hint, and the address lies inside `value`.
