@@ -134,8 +134,6 @@ impl<P: Copy> Distribution1D<P> {
         (i as usize, pmf, rest)
     }
 
-    /// [`Distribution1D::sample`] of a distribution of more than a few items: its item
-    /// found by the guide table's search.
     /// Asks the caches for the entries a sample with `u` reads: the ends of its guide
     /// table's bucket (the guide entries themselves are read here, and no branch waits on
     /// them, so the loads of several lanes' calls overlap).
@@ -154,6 +152,8 @@ impl<P: Copy> Distribution1D<P> {
         }
     }
 
+    /// [`Distribution1D::sample`] of a distribution of more than a few items: its item
+    /// found by the guide table's search.
     fn sample_searched(&self, u: f32) -> (usize, f32, f32) {
         let i = self.find(u);
         let (pmf, rest) = rescale(u, self.cdf(i), self.cdf(i + 1));
