@@ -141,14 +141,14 @@ impl Environment {
             return (V3::splat_rgb(self.scale), R::splat(1.0 / (4.0 * PI)));
         };
         let (u, v, sin_theta) = self.map_coordinates(d);
-        // Each lane's cell: its radiance and 2D density; -1 for a row of zero weight
-        // (never sampled, density 0), whose radiance (black, unless the scale has no
-        // luminance) comes from the image.
         // Every lane's cell asked of the caches first, so that the lanes' reads overlap.
         let [] = R::map_lanes([u, v], |_, p| {
             distribution.prefetch_at(p);
             []
         });
+        // Each lane's cell: its radiance and 2D density; -1 for a row of zero weight
+        // (never sampled, density 0), whose radiance (black, unless the scale has no
+        // luminance) comes from the image.
         let [r, g, b, density] = R::map_lanes([u, v], |_, [u, v]| match distribution.item_at([u, v]) {
             Some(texel) => {
                 let t = &texel.radiance;
