@@ -42,7 +42,7 @@ impl Distribution1D {
     }
 }
 
-impl<P: Copy + Default> Distribution1D<P> {
+impl<P: Copy> Distribution1D<P> {
     /// Items given as (weight, payload); `None` as for [`Distribution1D::new`].
     pub fn with_items(items: impl IntoIterator<Item = (f32, P)>) -> Option<Self> {
         let (mut sums, mut payloads) = (vec![], vec![]);
@@ -74,9 +74,7 @@ impl<P: Copy + Default> Distribution1D<P> {
         }
         Some(d)
     }
-}
 
-impl<P: Copy> Distribution1D<P> {
     fn cdf(&self, i: usize) -> f32 {
         self.table[i].cdf
     }
@@ -87,13 +85,20 @@ impl<P: Copy> Distribution1D<P> {
         self.table.partition_point(|e| e.cdf <= u).clamp(1, self.len()) - 1
     }
 
+    /// The guide table's first and last item of u's bucket.
+    #[inline]
+    fn bucket(&self, u: f32) -> (usize, usize) {
+        let n = self.len();
+        let j = ((u * n as f32) as usize).min(n - 1);
+        (self.table[j].guide as usize, self.table[j + 1].guide as usize)
+    }
+
     /// [`Distribution1D::search`]'s answer, searched for between the guide table's items
     /// for u's bucket: the answer lies there whenever cdf[lo] <= u and u < cdf[hi + 1]
     /// (checked, so rounding at a bucket's edge falls back to the whole search).
     fn find(&self, u: f32) -> usize {
         let n = self.len();
-        let j = ((u * n as f32) as usize).min(n - 1);
-        let (lo, hi) = (self.table[j].guide as usize, self.table[j + 1].guide as usize);
+        let (lo, hi) = self.bucket(u);
         if !(self.cdf(lo) <= u && (hi == n - 1 || u < self.cdf(hi + 1))) {
             return self.search(u);
         }
@@ -139,10 +144,8 @@ impl<P: Copy> Distribution1D<P> {
     /// them, so the loads of several lanes' calls overlap).
     #[inline]
     fn prefetch_sample(&self, u: f32) {
-        let n = self.len();
-        if n > SMALL {
-            let j = ((u * n as f32) as usize).min(n - 1);
-            let (lo, hi) = (self.table[j].guide as usize, self.table[j + 1].guide as usize);
+        if self.len() > SMALL {
+            let (lo, hi) = self.bucket(u);
             crate::simd::prefetch(&self.table[lo]);
             crate::simd::prefetch(&self.table[hi + 1]);
             // The payload the sample will read is near the bucket's first item.
@@ -232,7 +235,7 @@ impl Distribution2D {
     }
 }
 
-impl<P: Copy + Default> Distribution2D<P> {
+impl<P: Copy> Distribution2D<P> {
     /// The weights as for [`Distribution2D::new`], cell `i` (row-major) carrying
     /// `item(i, density)`, with `density` the density [`Distribution2D::pdf`] gives there.
     pub fn with_items(weights: &[f32], item: impl Fn((usize, f32)) -> P, width: usize, height: usize) -> Option<Self> {
@@ -267,9 +270,7 @@ impl<P: Copy + Default> Distribution2D<P> {
             height,
         })
     }
-}
 
-impl<P: Copy> Distribution2D<P> {
     /// A point of the unit square and its density there.
     pub fn sample(&self, u: [f32; 2]) -> ([f32; 2], f32) {
         let (point, density, _) = self.sample_item(u);
