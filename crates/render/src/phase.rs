@@ -3,7 +3,9 @@
 //! on is `wi = -wo`.
 
 use glam::{Vec2, Vec3};
-use penumbra_core::{trig, Frame};
+use penumbra_core::frame::Basis;
+use penumbra_core::lanes::{Real, V3};
+use penumbra_core::trig;
 use std::f32::consts::PI;
 
 /// Henyey and Greenstein's phase function ("Diffuse radiation in the galaxy", ApJ 93,
@@ -25,31 +27,42 @@ impl HenyeyGreenstein {
 
     /// p(wo, wi), which is also the density of [`HenyeyGreenstein::sample`].
     pub fn p(&self, wo: Vec3, wi: Vec3) -> f32 {
-        hg(wo.dot(wi), self.g)
+        hg(V3::from(wo).dot(wi.into()), self.g)
     }
 
-    /// A direction with density p(wo, ·), and that density: cos θ by inverting the
-    /// cumulative distribution (pbrt-v4's `SampleHenyeyGreenstein`), φ uniform.
+    /// A direction with density p(wo, ·), and that density (the one-lane instance of
+    /// [`sample_hg`]).
     pub fn sample(&self, wo: Vec3, u: Vec2) -> (Vec3, f32) {
-        let g = self.g;
-        let cos = if g.abs() < 1e-3 {
-            1.0 - 2.0 * u.x
-        } else {
-            let s = (1.0 - g * g) / (1.0 + g - 2.0 * g * u.x);
-            -(1.0 + g * g - s * s) / (2.0 * g)
-        }
-        .clamp(-1.0, 1.0);
-        let sin = (1.0 - cos * cos).max(0.0).sqrt();
-        let (sin_phi, cos_phi) = trig::sin_cos_turns(u.y);
-        let local = Vec3::new(sin * cos_phi, sin * sin_phi, cos);
-        let wi = Frame::from_normal(wo).to_world(local);
-        (wi, hg(cos, g))
+        let (wi, p) = sample_hg(self.g, wo.into(), (u.x, u.y));
+        (wi.into(), p)
     }
 }
 
-fn hg(cos: f32, g: f32) -> f32 {
-    let d = 1.0 + g * g + 2.0 * g * cos;
-    (1.0 - g * g) / (4.0 * PI * d * d.max(0.0).sqrt())
+/// The phase function's value for the cosine `cos` of the angle between wo and wi, per lane
+/// of any [`Real`] type.
+#[inline(always)]
+pub fn hg<R: Real>(cos: R, g: R) -> R {
+    let one = R::splat(1.0);
+    let d = one + g * g + R::splat(2.0) * g * cos;
+    (one - g * g) / (R::splat(4.0 * PI) * d * d.max(R::splat(0.0)).sqrt())
+}
+
+/// A direction about `wo` with density p(wo, ·) for the asymmetry `g` (kept inside
+/// (-0.99, 0.99) by [`HenyeyGreenstein::new`]), and that density, per lane: cos θ by
+/// inverting the cumulative distribution (pbrt-v4's `SampleHenyeyGreenstein`), φ uniform.
+#[inline(always)]
+pub fn sample_hg<R: Real>(g: R, wo: V3<R>, u: (R, R)) -> (V3<R>, R) {
+    let (one, two) = (R::splat(1.0), R::splat(2.0));
+    let isotropic = g.abs().cmp_lt(R::splat(1e-3));
+    let s = (one - g * g) / (one + g - two * g * u.0);
+    let cos = R::select(isotropic, one - two * u.0, -(one + g * g - s * s) / (two * g));
+    // As f32::clamp(-1, 1) (a NaN stays NaN).
+    let cos = R::select(cos.cmp_lt(-one), -one, cos);
+    let cos = R::select(cos.cmp_gt(one), one, cos);
+    let sin = (one - cos * cos).max(R::splat(0.0)).sqrt();
+    let (sin_phi, cos_phi) = trig::sin_cos_turns(u.1);
+    let local = V3::new(sin * cos_phi, sin * sin_phi, cos);
+    (Basis::from_normal(wo).to_world(local), hg(cos, g))
 }
 
 #[cfg(test)]

@@ -9,8 +9,8 @@
 
 use super::microfacet::Ggx;
 use super::{
-    one_lane_methods, reflect_z, reflect_z_lanes, same_hemisphere, BsdfModel, BsdfSample, Gather, LaneKernel,
-    LaneSample, SpecularRays, TransportMode,
+    one_lane_methods, reflect_z, reflect_z_lanes, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays,
+    TransportMode,
 };
 use crate::optics::{fresnel_dielectric, refract, refract_lanes};
 use glam::{Vec2, Vec3};
@@ -166,6 +166,106 @@ impl<R: Real, S: Spectrum<R>> DielectricLanes<R, S> {
     }
 }
 
+impl<R: Real, S: Spectrum<R>> DielectricLanes<R, S> {
+    /// The same interface carrying the other quantity (a layered walk's estimates out
+    /// towards wi trace the adjoint).
+    #[inline(always)]
+    pub fn adjoint(self) -> Self {
+        DielectricLanes {
+            importance: !self.importance,
+            ..self
+        }
+    }
+
+    /// Density with which [`DielectricLanes::sample_lobe`] gives `wi` for `lobe` (0 where
+    /// smooth).
+    #[inline(always)]
+    pub fn pdf_lobe(&self, wo: V3<R>, wi: V3<R>, lobe: Lobe) -> R {
+        let (density, reflection, _, ok) = self.lobe_density(wo, wi);
+        let wanted = if lobe == Lobe::Reflection {
+            reflection
+        } else {
+            R::not(reflection)
+        };
+        R::select(R::and(ok, wanted), density, R::splat(0.0))
+    }
+
+    /// A direction from `lobe` alone: the mirror or refracted direction (smooth), or about
+    /// a visible microfacet normal (rough); its weight f |cos θi| / pdf carries F or 1 - F.
+    /// No sample where the lobe has nothing (total internal reflection for refraction),
+    /// nor where its density or weight vanishes.
+    #[inline(always)]
+    pub fn sample_lobe(&self, wo: V3<R>, u: (R, R), lobe: Lobe) -> LaneSample<R, S> {
+        let reflection = lobe == Lobe::Reflection;
+        let mut s = penumbra_core::choose_lanes!(
+            R,
+            self.rough,
+            self.sample_lobe_rough(wo, u, reflection),
+            self.sample_lobe_smooth(wo, reflection)
+        );
+        s.ok = R::and(R::not(wo.z.cmp_eq(R::splat(0.0))), s.ok);
+        s
+    }
+
+    #[inline(always)]
+    fn sample_lobe_smooth(&self, wo: V3<R>, reflection: bool) -> LaneSample<R, S> {
+        let (zero, one) = (R::splat(0.0), R::splat(1.0));
+        let eta_rel = self.relative_eta(wo.z);
+        let f = fresnel_dielectric(wo.z.abs(), eta_rel);
+        let (wi, weight, eta, ok) = if reflection {
+            (reflect_z_lanes(wo), self.reflectance.scale(f), one, f.cmp_gt(zero))
+        } else {
+            let s = wo.z / wo.z.abs();
+            let (wi, crosses) = refract_lanes(wo, V3::new(zero * s, zero * s, one * s), eta_rel);
+            let weight = self.transmittance.scale((one - f) * self.transmission_scale(eta_rel));
+            (wi, weight, eta_rel, R::and(crosses, f.cmp_lt(one)))
+        };
+        LaneSample {
+            wi,
+            weight,
+            pdf: one,
+            delta: R::splat_mask(true),
+            eta,
+            ok,
+        }
+    }
+
+    #[inline(always)]
+    fn sample_lobe_rough(&self, wo: V3<R>, u: (R, R), reflection: bool) -> LaneSample<R, S> {
+        let zero = R::splat(0.0);
+        let m = self.ggx.sample_visible(wo, u);
+        let c = wo.dot(m);
+        let eta_rel = self.relative_eta(c);
+        let (wi, eta, exists) = if reflection {
+            (m.scale(R::splat(2.0) * c) - wo, R::splat(1.0), R::splat_mask(true))
+        } else {
+            let (wi, crosses) = refract_lanes(wo, V3::select(c.cmp_gt(zero), m, -m), eta_rel);
+            (wi, eta_rel, crosses)
+        };
+        let same_side = (wo.z * wi.z).cmp_gt(zero);
+        let side_ok = if reflection { same_side } else { R::not(same_side) };
+        let lobe = if reflection {
+            Lobe::Reflection
+        } else {
+            Lobe::Transmission
+        };
+        let pdf = self.pdf_lobe(wo, wi, lobe);
+        let weight = self.eval(wo, wi).scale(wi.z.abs() / pdf);
+        let ok = R::and(
+            R::and(exists, side_ok),
+            R::and(pdf.cmp_gt(zero), R::not(weight.is_black())),
+        );
+        LaneSample {
+            wi,
+            weight,
+            pdf,
+            delta: R::splat_mask(false),
+            eta,
+            ok,
+        }
+    }
+}
+
 impl Gather for DielectricLanes<f32> {
     type Lanes<L: Lane8> = DielectricLanes<L>;
     /// Eight dielectrics of one transport mode (the first's).
@@ -244,76 +344,6 @@ impl Dielectric {
     /// The rough BSDF's distribution, unless the interface is smooth or index-matched.
     pub(crate) fn rough(&self) -> Option<Ggx> {
         self.alpha.filter(|_| self.eta != 1.0)
-    }
-
-    /// [`DielectricLanes::lobe_density`] of one path.
-    fn lobe_density(&self, wo: Vec3, wi: Vec3) -> Option<(f32, Lobe, f32)> {
-        let (density, reflection, f, ok) = self.lanes(TransportMode::Radiance).lobe_density(wo.into(), wi.into());
-        let lobe = if reflection {
-            Lobe::Reflection
-        } else {
-            Lobe::Transmission
-        };
-        ok.then_some((density, lobe, f))
-    }
-
-    /// Density with which [`Dielectric::sample_lobe`] gives `wi` for `lobe`.
-    pub(crate) fn pdf_lobe(&self, wo: Vec3, wi: Vec3, lobe: Lobe) -> f32 {
-        match self.lobe_density(wo, wi) {
-            Some((density, l, _)) if l == lobe => density,
-            _ => 0.0,
-        }
-    }
-
-    /// A direction from `lobe` alone: the mirror or refracted direction (smooth), or about
-    /// a visible microfacet normal (rough); its weight f |cos θi| / pdf carries F or 1 - F.
-    /// `None` where the lobe has nothing (total internal reflection for refraction).
-    pub(crate) fn sample_lobe(&self, wo: Vec3, u2: Vec2, lobe: Lobe, mode: TransportMode) -> Option<BsdfSample> {
-        if wo.z == 0.0 {
-            return None;
-        }
-        let lanes = self.lanes(mode);
-        let Some(ggx) = self.rough() else {
-            let eta_rel = lanes.relative_eta(wo.z);
-            let f = fresnel_dielectric(wo.z.abs(), eta_rel);
-            return match lobe {
-                Lobe::Reflection => (f > 0.0).then(|| BsdfSample {
-                    wi: reflect_z(wo),
-                    weight: self.reflectance * f,
-                    pdf: 1.0,
-                    delta: true,
-                    eta: 1.0,
-                }),
-                Lobe::Transmission => refract(wo, Vec3::Z * wo.z.signum(), eta_rel)
-                    .filter(|_| f < 1.0)
-                    .map(|wi| BsdfSample {
-                        wi,
-                        weight: self.transmittance * ((1.0 - f) * lanes.transmission_scale(eta_rel)),
-                        pdf: 1.0,
-                        delta: true,
-                        eta: eta_rel,
-                    }),
-            };
-        };
-        let m = Vec3::from(ggx.sample_visible(wo, u2.into()));
-        let c = wo.dot(m);
-        let eta_rel = lanes.relative_eta(c);
-        let (wi, eta) = match lobe {
-            Lobe::Reflection => (2.0 * c * m - wo, 1.0),
-            Lobe::Transmission => (refract(wo, if c > 0.0 { m } else { -m }, eta_rel)?, eta_rel),
-        };
-        if same_hemisphere(wo, wi) != (lobe == Lobe::Reflection) {
-            return None;
-        }
-        let pdf = self.pdf_lobe(wo, wi, lobe);
-        let weight = self.eval(wo, wi, mode) * (wi.z.abs() / pdf);
-        (pdf > 0.0 && !weight.is_black()).then_some(BsdfSample {
-            wi,
-            weight,
-            pdf,
-            delta: false,
-            eta,
-        })
     }
 }
 

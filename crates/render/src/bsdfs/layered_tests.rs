@@ -10,6 +10,7 @@ use crate::materials::{metal_ior, Coated, CoatedBase, Roughness};
 use crate::optics::fresnel_diffuse_reflectance;
 use crate::{Material, Texture};
 use penumbra_testkit::{assert_within_se, MeanEstimate, Uniforms};
+use std::f32::consts::PI;
 
 const RADIANCE: TransportMode = TransportMode::Radiance;
 
@@ -44,10 +45,9 @@ fn over_diffuse(rho: f32, coat: Dielectric) -> Layered {
 /// Mean and standard error of `n` walks' estimates (red channel) of f(wo, wi), without
 /// the coating's own reflection.
 fn walks(l: &Layered, wo: Vec3, wi: Vec3, n: usize, seed: u64) -> (f64, f64) {
-    let mut walk = Walk(Pcg32::new(seed, 0));
     let mut m = MeanEstimate::default();
-    for _ in 0..n {
-        m.push(l.walk_eval(wo, wi, RADIANCE, &mut walk).r as f64);
+    for f in l.lanes(RADIANCE).walk_estimates(wo, wi, n, seed) {
+        m.push(f.r as f64);
     }
     (m.mean(), m.standard_error())
 }

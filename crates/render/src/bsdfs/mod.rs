@@ -19,6 +19,7 @@ mod diffuse;
 #[cfg(test)]
 mod lanes_tests;
 mod layered;
+mod layered_walk;
 pub mod microfacet;
 mod phong;
 mod plastic;
@@ -32,6 +33,7 @@ pub use conductor::{Conductor, ConductorLanes, MetalFresnel};
 pub use dielectric::{Dielectric, DielectricLanes, Lobe};
 pub use diffuse::{Diffuse, DiffuseLanes};
 pub use layered::{LayerBase, Layered};
+pub use layered_walk::{BaseLanes, LayeredLanes};
 pub use phong::{PhongBsdf, PhongLanes};
 pub use plastic::{Coating, Plastic, PlasticLanes};
 
@@ -416,12 +418,6 @@ impl<'a> Bsdf<'a> {
     pub fn stochastic(&self) -> bool {
         self.kind.stochastic()
     }
-}
-
-/// Whether `a` and `b` lie on the same side of the surface.
-#[inline]
-pub(crate) fn same_hemisphere(a: Vec3, b: Vec3) -> bool {
-    a.z * b.z > 0.0
 }
 
 /// Mirror reflection about the normal, in the local frame.
