@@ -35,16 +35,19 @@ pub(super) struct BsdfAnswer {
 
 /// The BSDF kinds answered in lanes, one line each (bucket, `BsdfKind` variant): generates
 /// [`Buckets`] and its [`Buckets::answer`]. A kind with a lane kernel joins by one line here.
-/// Blends of two one-sided parts of these kinds are answered in lanes too, bucketed by
-/// the pair of kinds, as the mixture of the two kernels ([`MixtureLanes`]).
+/// Blends of two one-sided parts of the kinds before the `;` are answered in lanes too,
+/// bucketed by the pair of kinds, as the mixture of the two kernels ([`MixtureLanes`]);
+/// the kinds after it are answered in lanes alone (a blend with one goes one at a time).
 macro_rules! lane_kinds {
-    ($($bucket:ident: $variant:ident),* $(,)?) => {
+    ($($bucket:ident: $variant:ident),* ; $($solo_bucket:ident: $solo:ident),* $(,)?) => {
         /// The buckets of one depth's shading points, by index, kept between depths.
         #[derive(Default)]
         pub(super) struct Buckets {
             $($bucket: Vec<usize>,)*
-            /// Blends, by the pair of their parts' kinds (in registry order).
-            blends: [Vec<usize>; KINDS * KINDS],
+            $($solo_bucket: Vec<usize>,)*
+            /// Blends, by the pair of their parts' kinds (in registry order): `KINDS²`
+            /// buckets, made at the first use.
+            blends: Vec<Vec<usize>>,
         }
 
         /// How many kinds have a lane kernel.
@@ -62,10 +65,13 @@ macro_rules! lane_kinds {
             /// Answers `queries[i]` of shading point `shs[i]` into `out[i]`.
             pub fn answer<'s>(&mut self, shs: &[Shading<'s>], queries: &[BsdfQuery], out: &mut [BsdfAnswer]) {
                 $(self.$bucket.clear();)*
+                $(self.$solo_bucket.clear();)*
+                self.blends.resize_with(KINDS * KINDS, Vec::new);
                 self.blends.iter_mut().for_each(Vec::clear);
                 for (i, (sh, q)) in shs.iter().zip(queries).enumerate() {
                     match sh.bsdf.kind {
                         $(BsdfKind::$variant(_) => self.$bucket.push(i),)*
+                        $(BsdfKind::$solo(_) => self.$solo_bucket.push(i),)*
                         BsdfKind::Blend(b) => {
                             let (a, c) = (b.a.bsdf(b.uv), b.b.bsdf(b.uv));
                             match (lane_kind(&a), lane_kind(&c)) {
@@ -73,6 +79,8 @@ macro_rules! lane_kinds {
                                 _ => out[i] = answer_one(sh, q),
                             }
                         }
+                        // A kind without a lane kernel (none at present) goes one at a time.
+                        #[allow(unreachable_patterns)]
                         _ => out[i] = answer_one(sh, q),
                     }
                 }
@@ -81,6 +89,14 @@ macro_rules! lane_kinds {
                     for group in self.$bucket.chunks(8) {
                         answer_lanes(group, shs, queries, out, |b| match b {
                             BsdfKind::$variant(k) => k.lanes(mode),
+                            _ => unreachable!("a bucket holds one kind"),
+                        });
+                    }
+                )*
+                $(
+                    for group in self.$solo_bucket.chunks(8) {
+                        answer_lanes(group, shs, queries, out, |b| match b {
+                            BsdfKind::$solo(k) => k.lanes(mode),
                             _ => unreachable!("a bucket holds one kind"),
                         });
                     }
@@ -121,7 +137,10 @@ lane_kinds! {
     conductor: Conductor,
     dielectric: Dielectric,
     plastic: Plastic,
-    phong: Phong,
+    phong: Phong;
+    // Answered in lanes alone, one at a time as a blend's part: the random walk is too
+    // large a kernel to inline into every pair (the build runs out of memory).
+    layered: Layered,
 }
 
 /// One point's answers from its scalar BSDF.
