@@ -278,7 +278,10 @@ fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::materials::{ConductorMaterial, DielectricMaterial, DiffuseMaterial, Phong, Roughness};
+    use crate::bsdfs::MetalFresnel;
+    use crate::materials::{
+        Coated, CoatedBase, ConductorMaterial, DielectricMaterial, DiffuseMaterial, Phong, Roughness,
+    };
     use crate::{Interaction, Material, Texture};
     use penumbra_core::Pcg32;
     use penumbra_geometry::SurfaceHit;
@@ -317,7 +320,8 @@ mod tests {
 
     /// Shading points of blends of every pair of lane kinds (smooth and rough parts,
     /// weights 0 and 1 among them, some blends two-sided, some with a two-sided part, which
-    /// stays scalar), seen from both sides and mixed with plain kinds in one depth: the
+    /// stays scalar), coated materials alone and in blends, seen from both sides and mixed
+    /// with plain kinds in one depth: the
     /// buckets' answers in lanes are, point by point, the bits of each point's scalar BSDF.
     #[test]
     fn blends_answered_in_lanes_give_the_scalar_answers() {
@@ -344,6 +348,46 @@ mod tests {
                 0 => Material::TwoSided(Box::new(blend)),
                 4 => parts(&mut rng, i),
                 _ => blend,
+            });
+        }
+        // Coated (layered) materials over diffuse and metal bases, clear or with a medium,
+        // answered in lanes alone, and blends with a coated part, one at a time.
+        for i in 0..60 {
+            let c = |rng: &mut Pcg32| Texture::Constant(Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()));
+            let rough = (i % 3 != 0).then(|| Roughness::isotropic(0.05 + 0.3 * rng.next_f32()));
+            let base = if i % 2 == 0 {
+                CoatedBase::Diffuse {
+                    reflectance: c(&mut rng),
+                }
+            } else {
+                CoatedBase::Conductor {
+                    fresnel: MetalFresnel::Schlick,
+                    specular: c(&mut rng),
+                    roughness: (i % 4 == 1).then(|| Roughness::isotropic(0.2)),
+                }
+            };
+            let medium = i % 5 < 2;
+            let coated = Material::Coated(Coated {
+                base,
+                roughness: rough,
+                thickness: if medium { 0.3 } else { 0.01 },
+                albedo: if medium {
+                    c(&mut rng)
+                } else {
+                    Texture::Constant(Rgb::BLACK)
+                },
+                g: 0.4,
+                max_depth: 1 + i as u32 % 10,
+                ..Coated::default()
+            });
+            materials.push(if i % 6 == 5 {
+                Material::Blend {
+                    a: Box::new(coated),
+                    b: Box::new(parts(&mut rng, i)),
+                    weight: Texture::Constant(Rgb::splat(0.5)),
+                }
+            } else {
+                coated
             });
         }
         let its: Vec<Interaction> = materials
