@@ -19,5 +19,5 @@ pub use geometry::{Geometry, GeometryBuilder};
 pub use hit::{Hit, SurfaceHit};
 pub use instance::{Instance, MeshAccel};
 pub use mesh::{MeshError, TriangleMesh};
-pub use placement::Placement;
+pub use placement::{AffineLanes, Placement, PlacementLanes};
 pub use shapes::Shape;

@@ -1,9 +1,12 @@
 //! The box: an axis-aligned box in object space, placed by any affine transform. Hit by
 //! the slab test; the face is the one whose slab the hit lies on.
 
-use super::{ShapeHit, ShapeSurface};
+use super::{one_lane, GatherSurface, ShapeHit, ShapeSurface, SurfaceKernel};
+use crate::placement::PlacementLanes;
+use crate::triangle_lanes::SurfaceLanes;
 use crate::Placement;
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::{Aabb, Ray, Transform};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -41,33 +44,91 @@ impl Cuboid {
         (t > 0.0 && t < t_max).then_some((t, Vec2::ZERO))
     }
 
-    pub fn surface(&self, ray: &Ray, (t, _): ShapeHit) -> ShapeSurface {
-        let local = self.placement.ray_to_object(ray).at(t);
-        // The face is the axis along which the point is furthest out, relative to the half size.
-        let half = 0.5 * self.local.extent();
-        let d = (local - self.local.centroid()) / half;
-        let axis = d.abs().max_position();
-        let mut n = Vec3::ZERO;
-        n[axis] = d[axis].signum();
-        let rel = self.local.offset(local);
-        let uv = match axis {
-            0 => Vec2::new(rel.z, rel.y),
-            1 => Vec2::new(rel.x, rel.z),
-            _ => Vec2::new(rel.x, rel.y),
-        };
-        let mut p = local;
-        p[axis] = if n[axis] > 0.0 {
-            self.local.max[axis]
-        } else {
-            self.local.min[axis]
-        };
+    /// The one-lane instance of the surface kernel.
+    #[inline(always)]
+    pub fn lanes(&self) -> CuboidLanes<f32> {
+        CuboidLanes {
+            placement: self.placement.lanes(),
+            min: self.local.min.into(),
+            max: self.local.max.into(),
+            centroid: self.local.centroid().into(),
+            half: (0.5 * self.local.extent()).into(),
+        }
+    }
+
+    pub fn surface(&self, ray: &Ray, hit: ShapeHit) -> ShapeSurface {
+        one_lane(&self.lanes(), ray, hit)
+    }
+}
+
+/// Boxes' surfaces: each lane its own placement and object-space box (with its centre and
+/// half size).
+#[derive(Clone, Copy, Debug)]
+pub struct CuboidLanes<R: Real> {
+    pub placement: PlacementLanes<R>,
+    pub min: V3<R>,
+    pub max: V3<R>,
+    pub centroid: V3<R>,
+    pub half: V3<R>,
+}
+
+impl<R: Real> SurfaceKernel<R> for CuboidLanes<R> {
+    #[inline(always)]
+    fn surface(&self, origin: V3<R>, dir: V3<R>, t: R, _: (R, R)) -> SurfaceLanes<R> {
+        let (zero, one) = (R::splat(0.0), R::splat(1.0));
+        let (o, d) = self.placement.ray_to_object(origin, dir);
+        let local = o + d.scale(t);
+        // The face is the axis along which the point is furthest out, relative to the half
+        // size (the first of equal ones, as `Vec3::max_position`).
+        let c = local - self.centroid;
+        let dd = V3::new(c.x / self.half.x, c.y / self.half.y, c.z / self.half.z);
+        let (ax, ay, az) = (dd.x.abs(), dd.y.abs(), dd.z.abs());
+        let is_y = ay.cmp_gt(ax);
+        let z_axis = az.cmp_gt(R::select(is_y, ay, ax));
+        let y_axis = R::and(is_y, R::not(z_axis));
+        let x_axis = R::not(R::or(y_axis, z_axis));
+        let on_axis = |v: V3<R>| R::select(z_axis, v.z, R::select(y_axis, v.y, v.x));
+        let sign = one.copysign(on_axis(dd));
+        let n = V3::new(
+            R::select(x_axis, sign, zero),
+            R::select(y_axis, sign, zero),
+            R::select(z_axis, sign, zero),
+        );
+        // The point's offset in the box, 0 to 1 along each axis of positive extent.
+        let (e, off) = (self.max - self.min, local - self.min);
+        let rel = |o: R, e: R| R::select(e.cmp_gt(zero), o / e, zero);
+        let rel = V3::new(rel(off.x, e.x), rel(off.y, e.y), rel(off.z, e.z));
         // u runs along z on the x faces, along x on the others.
-        let du = if axis == 0 { Vec3::Z } else { Vec3::X };
-        ShapeSurface {
-            p: self.placement.point_to_world(p),
-            n: self.placement.normal_to_world(n),
+        let uv = (R::select(x_axis, rel.z, rel.x), R::select(y_axis, rel.z, rel.y));
+        let face = R::select(sign.cmp_gt(zero), on_axis(self.max), on_axis(self.min));
+        let p = V3::new(
+            R::select(x_axis, face, local.x),
+            R::select(y_axis, face, local.y),
+            R::select(z_axis, face, local.z),
+        );
+        let du = V3::new(R::select(x_axis, zero, one), zero, R::select(x_axis, one, zero));
+        let n = self.placement.normal_to_world(n);
+        SurfaceLanes {
+            p: self.placement.to_world.point(p),
+            ng: n,
+            ns: n,
             uv,
-            dpdu: self.placement.vector_to_world(du),
+            dpdu: self.placement.to_world.vector(du),
+        }
+    }
+}
+
+impl GatherSurface for CuboidLanes<f32> {
+    type Lanes<L: Lane8> = CuboidLanes<L>;
+    #[inline(always)]
+    fn gather<L: Lane8>(one: &[Self; 8]) -> CuboidLanes<L> {
+        let v = |f: fn(&Self) -> V3<f32>| V3::from_lanes(&one.each_ref().map(|s| f(s).into()));
+        CuboidLanes {
+            placement: PlacementLanes::gather(&one.map(|c| c.placement)),
+            min: v(|c| c.min),
+            max: v(|c| c.max),
+            centroid: v(|c| c.centroid),
+            half: v(|c| c.half),
         }
     }
 }

@@ -2,7 +2,7 @@
 //! placement a disk becomes an ellipse of the same form, so placement is baked in.
 //! Texture coordinates map the unit disk to [0, 1]^2.
 
-use super::{plane_coordinates, plane_frame, plane_hit, ShapeHit, ShapeSurface};
+use super::{one_lane, plane_coordinates, plane_frame, plane_hit, FlatLanes, ShapeHit, ShapeSurface};
 use glam::{Vec2, Vec3};
 use penumbra_core::{Aabb, Frame, Ray, Transform};
 
@@ -50,13 +50,20 @@ impl Disk {
         (xy.length_squared() <= 1.0).then_some((t, xy))
     }
 
-    pub fn surface(&self, _ray: &Ray, (_, xy): ShapeHit) -> ShapeSurface {
-        ShapeSurface {
-            p: self.center + xy.x * self.axis1 + xy.y * self.axis2,
-            n: self.n,
-            uv: 0.5 * (xy + Vec2::ONE),
-            dpdu: self.axis1,
+    /// The one-lane instance of the surface kernel.
+    #[inline(always)]
+    pub fn lanes(&self) -> FlatLanes<f32> {
+        FlatLanes {
+            origin: self.center.into(),
+            e1: self.axis1.into(),
+            e2: self.axis2.into(),
+            n: self.n.into(),
+            disk: true,
         }
+    }
+
+    pub fn surface(&self, ray: &Ray, hit: ShapeHit) -> ShapeSurface {
+        one_lane(&self.lanes(), ray, hit)
     }
 }
 

@@ -2,10 +2,14 @@
 //! `bounds`, `intersect` (distance and shape coordinates) and `surface` (the full hit).
 //!
 //! Adding a shape: a new file with those three functions, one variant below and one arm
-//! in each match.
+//! in each match. A shape's `surface` is the one-lane instance of its [`SurfaceKernel`],
+//! written once over the lane type, which eight shapes of a kind gathered
+//! ([`GatherSurface`]) run in eight lanes.
 
 mod cuboid;
 mod disk;
+#[cfg(test)]
+mod lanes_tests;
 mod plane;
 mod quad;
 mod sphere;
@@ -13,13 +17,15 @@ pub mod triangle;
 pub mod triangle4;
 pub mod triangle_box;
 
-pub use cuboid::Cuboid;
+pub use cuboid::{Cuboid, CuboidLanes};
 pub use disk::Disk;
-pub use plane::Plane;
+pub use plane::{Plane, PlaneLanes};
 pub use quad::Quad;
-pub use sphere::Sphere;
+pub use sphere::{Sphere, SphereLanes};
 
+use crate::triangle_lanes::SurfaceLanes;
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::{Aabb, Ray};
 
 /// Where a ray meets a shape: distance and shape-specific coordinates.
@@ -33,6 +39,76 @@ pub struct ShapeSurface {
     pub uv: Vec2,
     /// ∂p/∂u, the direction of increasing u (not normalised; zero where undefined).
     pub dpdu: Vec3,
+}
+
+/// A shape kind's surface at hits, in lanes of any [`Real`] type: lane `k` gives the bits
+/// of the one-lane instance for lane `k`'s shape and hit.
+pub trait SurfaceKernel<R: Real> {
+    /// The surface where the ray `(origin, dir)` met the shape at `t`, with shape
+    /// coordinates `uv` (the shape's normal as both `ng` and `ns`).
+    fn surface(&self, origin: V3<R>, dir: V3<R>, t: R, uv: (R, R)) -> SurfaceLanes<R>;
+}
+
+/// A kind's one-lane surface kernel, eight of which make an eight-lane one.
+pub trait GatherSurface: Copy {
+    type Lanes<L: Lane8>: SurfaceKernel<L>;
+    fn gather<L: Lane8>(one: &[Self; 8]) -> Self::Lanes<L>;
+}
+
+/// The one-lane kernel `k`'s surface at `hit` as a [`ShapeSurface`].
+#[inline(always)]
+fn one_lane(k: &impl SurfaceKernel<f32>, ray: &Ray, (t, uv): ShapeHit) -> ShapeSurface {
+    let s = k.surface(ray.origin.into(), ray.dir.into(), t, (uv.x, uv.y));
+    ShapeSurface {
+        p: s.p.into(),
+        n: s.ng.into(),
+        uv: Vec2::new(s.uv.0, s.uv.1),
+        dpdu: s.dpdu.into(),
+    }
+}
+
+/// The surface of a flat shape `origin + a e1 + b e2` (quads, whose texture coordinates
+/// are (a, b), and disks, whose unit disk maps to [0, 1]² by (0.5 (a + 1), 0.5 (b + 1))),
+/// per lane.
+#[derive(Clone, Copy)]
+pub struct FlatLanes<R: Real> {
+    pub origin: V3<R>,
+    pub e1: V3<R>,
+    pub e2: V3<R>,
+    pub n: V3<R>,
+    pub disk: R::Mask,
+}
+
+impl<R: Real> SurfaceKernel<R> for FlatLanes<R> {
+    #[inline(always)]
+    fn surface(&self, _origin: V3<R>, _dir: V3<R>, _t: R, (a, b): (R, R)) -> SurfaceLanes<R> {
+        let (one, half) = (R::splat(1.0), R::splat(0.5));
+        SurfaceLanes {
+            p: self.origin + self.e1.scale(a) + self.e2.scale(b),
+            ng: self.n,
+            ns: self.n,
+            uv: (
+                R::select(self.disk, half * (a + one), a),
+                R::select(self.disk, half * (b + one), b),
+            ),
+            dpdu: self.e1,
+        }
+    }
+}
+
+impl GatherSurface for FlatLanes<f32> {
+    type Lanes<L: Lane8> = FlatLanes<L>;
+    #[inline(always)]
+    fn gather<L: Lane8>(one: &[Self; 8]) -> FlatLanes<L> {
+        let v = |f: fn(&Self) -> V3<f32>| V3::from_lanes(&one.each_ref().map(|s| f(s).into()));
+        FlatLanes {
+            origin: v(|s| s.origin),
+            e1: v(|s| s.e1),
+            e2: v(|s| s.e2),
+            n: v(|s| s.n),
+            disk: L::mask_of(one.map(|s| s.disk)),
+        }
+    }
 }
 
 /// Every analytic shape the renderer knows.

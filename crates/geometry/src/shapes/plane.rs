@@ -1,8 +1,10 @@
 //! The infinite plane: a point and a normal. Texture coordinates are world distances
 //! along two tangent directions, so a checkerboard's scale is in scene units.
 
-use super::{plane_hit, ShapeHit, ShapeSurface};
+use super::{one_lane, plane_hit, GatherSurface, ShapeHit, ShapeSurface, SurfaceKernel};
+use crate::triangle_lanes::SurfaceLanes;
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::{Frame, Ray, Transform};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -27,16 +29,57 @@ impl Plane {
         plane_hit(ray, self.origin, self.frame.n, t_max).map(|t| (t, Vec2::ZERO))
     }
 
-    pub fn surface(&self, ray: &Ray, (t, _): ShapeHit) -> ShapeSurface {
-        let p = ray.at(t);
+    /// The one-lane instance of the surface kernel.
+    #[inline(always)]
+    pub fn lanes(&self) -> PlaneLanes<f32> {
+        PlaneLanes {
+            origin: self.origin.into(),
+            s: self.frame.s.into(),
+            t: self.frame.t.into(),
+            n: self.frame.n.into(),
+        }
+    }
+
+    pub fn surface(&self, ray: &Ray, hit: ShapeHit) -> ShapeSurface {
+        one_lane(&self.lanes(), ray, hit)
+    }
+}
+
+/// Planes' surfaces: each lane its own point and frame.
+#[derive(Clone, Copy, Debug)]
+pub struct PlaneLanes<R: Real> {
+    pub origin: V3<R>,
+    pub s: V3<R>,
+    pub t: V3<R>,
+    pub n: V3<R>,
+}
+
+impl<R: Real> SurfaceKernel<R> for PlaneLanes<R> {
+    #[inline(always)]
+    fn surface(&self, origin: V3<R>, dir: V3<R>, t: R, _: (R, R)) -> SurfaceLanes<R> {
+        let p = origin + dir.scale(t);
         let d = p - self.origin;
-        // Project back onto the plane to remove rounding error along the normal.
-        let p = p - self.frame.n * d.dot(self.frame.n);
-        ShapeSurface {
-            p,
-            n: self.frame.n,
-            uv: Vec2::new(d.dot(self.frame.s), d.dot(self.frame.t)),
-            dpdu: self.frame.s,
+        SurfaceLanes {
+            // Projected back onto the plane to remove rounding error along the normal.
+            p: p - self.n.scale(d.dot(self.n)),
+            ng: self.n,
+            ns: self.n,
+            uv: (d.dot(self.s), d.dot(self.t)),
+            dpdu: self.s,
+        }
+    }
+}
+
+impl GatherSurface for PlaneLanes<f32> {
+    type Lanes<L: Lane8> = PlaneLanes<L>;
+    #[inline(always)]
+    fn gather<L: Lane8>(one: &[Self; 8]) -> PlaneLanes<L> {
+        let v = |f: fn(&Self) -> V3<f32>| V3::from_lanes(&one.each_ref().map(|s| f(s).into()));
+        PlaneLanes {
+            origin: v(|p| p.origin),
+            s: v(|p| p.s),
+            t: v(|p| p.t),
+            n: v(|p| p.n),
         }
     }
 }

@@ -1,7 +1,7 @@
 //! The quad: a parallelogram `corner + a * edge1 + b * edge2`, a, b in [0, 1]. Affine
 //! transforms map parallelograms to parallelograms, so placement is baked in.
 
-use super::{plane_coordinates, plane_frame, plane_hit, ShapeHit, ShapeSurface};
+use super::{one_lane, plane_coordinates, plane_frame, plane_hit, FlatLanes, ShapeHit, ShapeSurface};
 use glam::Vec3;
 use penumbra_core::{Aabb, Ray, Transform};
 
@@ -41,13 +41,20 @@ impl Quad {
         (ab.cmpge(glam::Vec2::ZERO).all() && ab.cmple(glam::Vec2::ONE).all()).then_some((t, ab))
     }
 
-    pub fn surface(&self, _ray: &Ray, (_, ab): ShapeHit) -> ShapeSurface {
-        ShapeSurface {
-            p: self.corner + ab.x * self.edge1 + ab.y * self.edge2,
-            n: self.n,
-            uv: ab,
-            dpdu: self.edge1,
+    /// The one-lane instance of the surface kernel.
+    #[inline(always)]
+    pub fn lanes(&self) -> FlatLanes<f32> {
+        FlatLanes {
+            origin: self.corner.into(),
+            e1: self.edge1.into(),
+            e2: self.edge2.into(),
+            n: self.n.into(),
+            disk: false,
         }
+    }
+
+    pub fn surface(&self, ray: &Ray, hit: ShapeHit) -> ShapeSurface {
+        one_lane(&self.lanes(), ray, hit)
     }
 }
 

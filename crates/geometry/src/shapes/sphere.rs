@@ -4,9 +4,12 @@
 //! and any transform. The quadratic is solved in the numerically stable form of Haines et
 //! al., "Precision Improvements for Ray/Sphere Intersection" (Ray Tracing Gems, ch. 7).
 
-use super::{ShapeHit, ShapeSurface};
+use super::{one_lane, GatherSurface, ShapeHit, ShapeSurface, SurfaceKernel};
+use crate::placement::PlacementLanes;
+use crate::triangle_lanes::SurfaceLanes;
 use crate::Placement;
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::{trig, Aabb, Ray, Transform};
 use std::f32::consts::PI;
 
@@ -69,20 +72,55 @@ impl Sphere {
         (t > 0.0 && t < t_max).then_some((t, Vec2::ZERO))
     }
 
-    pub fn surface(&self, ray: &Ray, (t, _): ShapeHit) -> ShapeSurface {
-        let r = self.placement.ray_to_object(ray);
+    /// The one-lane instance of the surface kernel.
+    #[inline(always)]
+    pub fn lanes(&self) -> SphereLanes<f32> {
+        SphereLanes {
+            placement: self.placement.lanes(),
+        }
+    }
+
+    pub fn surface(&self, ray: &Ray, hit: ShapeHit) -> ShapeSurface {
+        one_lane(&self.lanes(), ray, hit)
+    }
+}
+
+/// Spheres' surfaces, each lane its own placement.
+#[derive(Clone, Copy, Debug)]
+pub struct SphereLanes<R: Real> {
+    pub placement: PlacementLanes<R>,
+}
+
+impl<R: Real> SurfaceKernel<R> for SphereLanes<R> {
+    #[inline(always)]
+    fn surface(&self, origin: V3<R>, dir: V3<R>, t: R, _: (R, R)) -> SurfaceLanes<R> {
+        let (zero, one, two_pi) = (R::splat(0.0), R::splat(1.0), R::splat(2.0 * PI));
+        let (o, d) = self.placement.ray_to_object(origin, dir);
         // Re-project onto the sphere to remove the error of `origin + t * dir`.
-        let local = r.at(t).normalize();
+        let (local, _) = (o + d.scale(t)).try_normalize();
         // Texture coordinates: longitude about the object's y axis, latitude from +y.
         let phi = trig::atan2(local.z, local.x);
-        let phi = if phi < 0.0 { phi + 2.0 * PI } else { phi };
-        let theta = trig::acos(local.y.clamp(-1.0, 1.0));
-        ShapeSurface {
-            p: self.placement.point_to_world(local),
-            n: self.placement.normal_to_world(local),
-            uv: Vec2::new(phi / (2.0 * PI), theta / PI),
+        let phi = R::select(phi.cmp_lt(zero), phi + two_pi, phi);
+        let y = R::select(local.y.cmp_lt(-one), -one, local.y);
+        let theta = trig::acos(R::select(y.cmp_gt(one), one, y));
+        let n = self.placement.normal_to_world(local);
+        SurfaceLanes {
+            p: self.placement.to_world.point(local),
+            ng: n,
+            ns: n,
+            uv: (phi / two_pi, theta / R::splat(PI)),
             // ∂p/∂φ of (cos φ sin θ, cos θ, sin φ sin θ).
-            dpdu: self.placement.vector_to_world(Vec3::new(-local.z, 0.0, local.x)),
+            dpdu: self.placement.to_world.vector(V3::new(-local.z, zero, local.x)),
+        }
+    }
+}
+
+impl GatherSurface for SphereLanes<f32> {
+    type Lanes<L: Lane8> = SphereLanes<L>;
+    #[inline(always)]
+    fn gather<L: Lane8>(one: &[Self; 8]) -> SphereLanes<L> {
+        SphereLanes {
+            placement: PlacementLanes::gather(&one.map(|s| s.placement)),
         }
     }
 }
