@@ -1,6 +1,8 @@
 //! The layered BSDF's random walks (the model is described in `layered.rs`) written once
-//! over lanes of any [`Real`] type: [`LayeredLanes`] is the one-lane instance behind the
-//! scalar [`super::Layered`] and, eight lanes at a time, the wavefront's kernel for it.
+//! over lanes of any [`Real`] type: its one-lane instance is the scalar
+//! [`super::Layered`]. (Eight lanes at a time it is held to the one-lane bits by the
+//! tests; the wavefront does not run it in lanes, whose three SIMD levels of this kernel
+//! took the build past 12 GB.)
 //! Each lane walks on its own: its own generator, its own number of events; a lane's
 //! branches (scattering in the medium, the coating's underside, the base; a walk ending)
 //! are masks, and a lane draws its random numbers exactly when, and in the order, the
@@ -178,7 +180,7 @@ impl<R: Real, S: Spectrum<R>> LayeredLanes<R, S> {
     /// One walk's estimate of f(wo, wi) without the coating's direct reflection, in the
     /// lanes `on` (pbrt-v4's `LayeredBxDF::f` loop body, with the top as the entrance and
     /// exit interface).
-    #[inline(always)]
+    #[inline]
     fn walk_eval(&self, wo: V3<R>, wi: V3<R>, on: R::Mask, walks: &mut Walks) -> S {
         let (zero, one) = (R::splat(0.0), R::splat(1.0));
         let mut f = S::splat(0.0);
@@ -289,7 +291,7 @@ impl<R: Real, S: Spectrum<R>> LayeredLanes<R, S> {
 
 impl<R: Real, S: Spectrum<R>> LaneKernel<R, S> for LayeredLanes<R, S> {
     /// The coating's reflection plus the mean of `samples` walks' estimates.
-    #[inline(always)]
+    #[inline]
     fn eval(&self, wo: V3<R>, wi: V3<R>) -> S {
         let upper = Self::upper(wo, wi);
         if !R::any(upper) {
@@ -311,7 +313,7 @@ impl<R: Real, S: Spectrum<R>> LaneKernel<R, S> for LayeredLanes<R, S> {
 
     /// An estimate proportional to the density (pbrt-v4's `pdfIsProportional`): 0.9 of the
     /// coating's reflection and the base's lobe seen through the coating, 0.1 uniform.
-    #[inline(always)]
+    #[inline]
     fn pdf(&self, wo: V3<R>, wi: V3<R>) -> R {
         let upper = Self::upper(wo, wi);
         if !R::any(upper) {
@@ -359,7 +361,7 @@ impl<R: Real, S: Spectrum<R>> LaneKernel<R, S> for LayeredLanes<R, S> {
     /// The coating's sample; a refraction goes on as a walk until it leaves through the
     /// top, its weight the walk's throughput and its density the product of its choices
     /// (a delta walk) or [`LaneKernel::pdf`]'s estimate.
-    #[inline(always)]
+    #[inline]
     fn sample(&self, wo: V3<R>, u_lobe: R, u: (R, R)) -> LaneSample<R, S> {
         let (zero, one) = (R::splat(0.0), R::splat(1.0));
         let first = self.coat.sample(wo, u_lobe, u);

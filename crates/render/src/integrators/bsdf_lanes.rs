@@ -35,16 +35,14 @@ pub(super) struct BsdfAnswer {
 
 /// The BSDF kinds answered in lanes, one line each (bucket, `BsdfKind` variant): generates
 /// [`Buckets`] and its [`Buckets::answer`]. A kind with a lane kernel joins by one line here.
-/// Blends of two one-sided parts of the kinds before the `;` are answered in lanes too,
-/// bucketed by the pair of kinds, as the mixture of the two kernels ([`MixtureLanes`]);
-/// the kinds after it are answered in lanes alone (a blend with one goes one at a time).
+/// Blends of two one-sided parts of these kinds are answered in lanes too, bucketed by
+/// the pair of kinds, as the mixture of the two kernels ([`MixtureLanes`]).
 macro_rules! lane_kinds {
-    ($($bucket:ident: $variant:ident),* ; $($solo_bucket:ident: $solo:ident),* $(,)?) => {
+    ($($bucket:ident: $variant:ident),* $(,)?) => {
         /// The buckets of one depth's shading points, by index, kept between depths.
         #[derive(Default)]
         pub(super) struct Buckets {
             $($bucket: Vec<usize>,)*
-            $($solo_bucket: Vec<usize>,)*
             /// Blends, by the pair of their parts' kinds (in registry order): `KINDS²`
             /// buckets, made at the first use.
             blends: Vec<Vec<usize>>,
@@ -65,13 +63,11 @@ macro_rules! lane_kinds {
             /// Answers `queries[i]` of shading point `shs[i]` into `out[i]`.
             pub fn answer<'s>(&mut self, shs: &[Shading<'s>], queries: &[BsdfQuery], out: &mut [BsdfAnswer]) {
                 $(self.$bucket.clear();)*
-                $(self.$solo_bucket.clear();)*
                 self.blends.resize_with(KINDS * KINDS, Vec::new);
                 self.blends.iter_mut().for_each(Vec::clear);
                 for (i, (sh, q)) in shs.iter().zip(queries).enumerate() {
                     match sh.bsdf.kind {
                         $(BsdfKind::$variant(_) => self.$bucket.push(i),)*
-                        $(BsdfKind::$solo(_) => self.$solo_bucket.push(i),)*
                         BsdfKind::Blend(b) => {
                             let (a, c) = (b.a.bsdf(b.uv), b.b.bsdf(b.uv));
                             match (lane_kind(&a), lane_kind(&c)) {
@@ -79,8 +75,7 @@ macro_rules! lane_kinds {
                                 _ => out[i] = answer_one(sh, q),
                             }
                         }
-                        // A kind without a lane kernel (none at present) goes one at a time.
-                        #[allow(unreachable_patterns)]
+                        // Kinds not listed go one at a time.
                         _ => out[i] = answer_one(sh, q),
                     }
                 }
@@ -89,14 +84,6 @@ macro_rules! lane_kinds {
                     for group in self.$bucket.chunks(8) {
                         answer_lanes(group, shs, queries, out, |b| match b {
                             BsdfKind::$variant(k) => k.lanes(mode),
-                            _ => unreachable!("a bucket holds one kind"),
-                        });
-                    }
-                )*
-                $(
-                    for group in self.$solo_bucket.chunks(8) {
-                        answer_lanes(group, shs, queries, out, |b| match b {
-                            BsdfKind::$solo(k) => k.lanes(mode),
                             _ => unreachable!("a bucket holds one kind"),
                         });
                     }
@@ -137,10 +124,10 @@ lane_kinds! {
     conductor: Conductor,
     dielectric: Dielectric,
     plastic: Plastic,
-    phong: Phong;
-    // Answered in lanes alone, one at a time as a blend's part: the random walk is too
-    // large a kernel to inline into every pair (the build runs out of memory).
-    layered: Layered,
+    phong: Phong,
+    // Not the layered BSDF: its random walk inlined at three SIMD levels (and into every
+    // pair of kinds) took the build past 12 GB (24 GB with the pairs); it goes one at a
+    // time, by the one-lane instance of its kernel.
 }
 
 /// One point's answers from its scalar BSDF.
@@ -320,8 +307,8 @@ mod tests {
 
     /// Shading points of blends of every pair of lane kinds (smooth and rough parts,
     /// weights 0 and 1 among them, some blends two-sided, some with a two-sided part, which
-    /// stays scalar), coated materials alone and in blends, seen from both sides and mixed
-    /// with plain kinds in one depth: the
+    /// stays scalar), coated materials alone and in blends (one at a time), seen from both
+    /// sides and mixed with plain kinds in one depth: the
     /// buckets' answers in lanes are, point by point, the bits of each point's scalar BSDF.
     #[test]
     fn blends_answered_in_lanes_give_the_scalar_answers() {
@@ -351,7 +338,7 @@ mod tests {
             });
         }
         // Coated (layered) materials over diffuse and metal bases, clear or with a medium,
-        // answered in lanes alone, and blends with a coated part, one at a time.
+        // alone and in blends, which go one at a time among the others.
         for i in 0..60 {
             let c = |rng: &mut Pcg32| Texture::Constant(Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()));
             let rough = (i % 3 != 0).then(|| Roughness::isotropic(0.05 + 0.3 * rng.next_f32()));
