@@ -164,9 +164,7 @@ impl<R: Real, S: Spectrum<R>> DielectricLanes<R, S> {
             ok: R::and(R::and(R::or(reflect, crosses), consistent), pdf.cmp_gt(zero)),
         }
     }
-}
 
-impl<R: Real, S: Spectrum<R>> DielectricLanes<R, S> {
     /// The same interface carrying the other quantity (a layered walk's estimates out
     /// towards wi trace the adjoint).
     #[inline(always)]

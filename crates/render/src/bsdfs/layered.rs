@@ -27,8 +27,10 @@
 //! of the samples go). Any positive density keeps the MIS weights summing to one.
 
 use super::layered_walk::{transmittance, BaseLanes, LayeredLanes};
-use super::{one_lane_methods, reflect_z, BsdfModel, BsdfSample, Conductor, Dielectric, Diffuse, LaneKernel};
-use super::{MetalFresnel, SpecularRays, TransportMode};
+use super::{
+    one_lane_methods, reflect_z, BsdfModel, BsdfSample, Conductor, Dielectric, Diffuse, LaneKernel, MetalFresnel,
+    SpecularRays, TransportMode,
+};
 use crate::optics::{fresnel_dielectric, refract};
 use crate::phase::HenyeyGreenstein;
 use glam::{Vec2, Vec3};
