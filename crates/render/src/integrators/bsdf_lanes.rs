@@ -43,9 +43,8 @@ macro_rules! lane_kinds {
         #[derive(Default)]
         pub(super) struct Buckets {
             $($bucket: Vec<usize>,)*
-            /// Blends, by the pair of their parts' kinds (in registry order): `KINDS²`
-            /// buckets, made at the first use.
-            blends: Vec<Vec<usize>>,
+            /// Blends, by the pair of their parts' kinds (in registry order).
+            blends: [Vec<usize>; KINDS * KINDS],
         }
 
         /// How many kinds have a lane kernel.
@@ -63,7 +62,6 @@ macro_rules! lane_kinds {
             /// Answers `queries[i]` of shading point `shs[i]` into `out[i]`.
             pub fn answer<'s>(&mut self, shs: &[Shading<'s>], queries: &[BsdfQuery], out: &mut [BsdfAnswer]) {
                 $(self.$bucket.clear();)*
-                self.blends.resize_with(KINDS * KINDS, Vec::new);
                 self.blends.iter_mut().for_each(Vec::clear);
                 for (i, (sh, q)) in shs.iter().zip(queries).enumerate() {
                     match sh.bsdf.kind {
