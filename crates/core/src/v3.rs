@@ -167,6 +167,18 @@ impl<L: Lane8> V3<L> {
         )
     }
 
+    /// The vector `f` gives of each of eight items, one item per lane (gathering eight
+    /// one-lane kernels' fields into one eight-lane kernel).
+    #[inline(always)]
+    pub fn gather<T>(items: &[T; 8], f: impl Fn(&T) -> V3<f32>) -> Self {
+        let v = items.each_ref().map(f);
+        V3::new(
+            L::from_array(v.map(|v| v.x)),
+            L::from_array(v.map(|v| v.y)),
+            L::from_array(v.map(|v| v.z)),
+        )
+    }
+
     /// The vector of lane `k`.
     #[inline(always)]
     pub fn lane(self, k: usize) -> glam::Vec3 {

@@ -101,12 +101,11 @@ impl AffineLanes<f32> {
     /// Eight one-lane maps as one eight-lane map.
     #[inline(always)]
     pub fn gather<L: Lane8>(one: &[Self; 8]) -> AffineLanes<L> {
-        let column = |f: fn(&Self) -> V3<f32>| V3::from_lanes(&one.each_ref().map(|a| f(a).into()));
         AffineLanes {
-            x: column(|a| a.x),
-            y: column(|a| a.y),
-            z: column(|a| a.z),
-            t: column(|a| a.t),
+            x: V3::gather(one, |a| a.x),
+            y: V3::gather(one, |a| a.y),
+            z: V3::gather(one, |a| a.z),
+            t: V3::gather(one, |a| a.t),
         }
     }
 }

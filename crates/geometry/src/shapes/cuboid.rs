@@ -122,13 +122,12 @@ impl GatherSurface for CuboidLanes<f32> {
     type Lanes<L: Lane8> = CuboidLanes<L>;
     #[inline(always)]
     fn gather<L: Lane8>(one: &[Self; 8]) -> CuboidLanes<L> {
-        let v = |f: fn(&Self) -> V3<f32>| V3::from_lanes(&one.each_ref().map(|s| f(s).into()));
         CuboidLanes {
             placement: PlacementLanes::gather(&one.map(|c| c.placement)),
-            min: v(|c| c.min),
-            max: v(|c| c.max),
-            centroid: v(|c| c.centroid),
-            half: v(|c| c.half),
+            min: V3::gather(one, |c| c.min),
+            max: V3::gather(one, |c| c.max),
+            centroid: V3::gather(one, |c| c.centroid),
+            half: V3::gather(one, |c| c.half),
         }
     }
 }

@@ -100,12 +100,11 @@ impl GatherSurface for FlatLanes<f32> {
     type Lanes<L: Lane8> = FlatLanes<L>;
     #[inline(always)]
     fn gather<L: Lane8>(one: &[Self; 8]) -> FlatLanes<L> {
-        let v = |f: fn(&Self) -> V3<f32>| V3::from_lanes(&one.each_ref().map(|s| f(s).into()));
         FlatLanes {
-            origin: v(|s| s.origin),
-            e1: v(|s| s.e1),
-            e2: v(|s| s.e2),
-            n: v(|s| s.n),
+            origin: V3::gather(one, |s| s.origin),
+            e1: V3::gather(one, |s| s.e1),
+            e2: V3::gather(one, |s| s.e2),
+            n: V3::gather(one, |s| s.n),
             disk: L::mask_of(one.map(|s| s.disk)),
         }
     }

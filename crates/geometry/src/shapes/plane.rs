@@ -74,12 +74,11 @@ impl GatherSurface for PlaneLanes<f32> {
     type Lanes<L: Lane8> = PlaneLanes<L>;
     #[inline(always)]
     fn gather<L: Lane8>(one: &[Self; 8]) -> PlaneLanes<L> {
-        let v = |f: fn(&Self) -> V3<f32>| V3::from_lanes(&one.each_ref().map(|s| f(s).into()));
         PlaneLanes {
-            origin: v(|p| p.origin),
-            s: v(|p| p.s),
-            t: v(|p| p.t),
-            n: v(|p| p.n),
+            origin: V3::gather(one, |p| p.origin),
+            s: V3::gather(one, |p| p.s),
+            t: V3::gather(one, |p| p.t),
+            n: V3::gather(one, |p| p.n),
         }
     }
 }
