@@ -3,21 +3,21 @@
 //! and every texture kind (`eval`), each over 4,096 inputs, in elements per second. Where a
 //! family has an eight-lane kernel it is measured beside its scalar form on the same inputs
 //! (the BSDF kinds the wavefront shades in lanes: diffuse, conductor, dielectric, plastic,
-//! at the CPU's SIMD level; triangle-light sampling: the point by area and its solid-angle
-//! density; every texture kind; point, spot, directional and environment lights: the
-//! lanes at the CPU's SIMD level); the other kinds have no lane form yet (issue 24), and
-//! this is where theirs will be measured.
+//! Phong and a blend at the CPU's SIMD level, the layered BSDF in the portable lanes; an
+//! untextured triangle light sampled by area; every texture kind; point, spot, directional
+//! and environment lights: the lanes at the CPU's SIMD level); the other kinds have no
+//! lane form yet (issue 24), and this is where theirs will be measured.
 //!
 //! `cargo bench --bench kernels` (add `-- bsdf` or `-- light` or `-- texture` for one).
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use glam::{Mat3, Vec2, Vec3};
-use penumbra::math::lanes::{Lane8, Real, F8, V3};
+use penumbra::math::lanes::{Lane8, F8, V3};
 #[cfg(target_arch = "x86_64")]
 use penumbra::math::lanes_avx::F8Avx;
 use penumbra::math::{warp, Pcg32, Rgb};
 use penumbra::renderer::bsdfs::{BsdfKind, Gather, LaneKernel, MetalFresnel, MixtureLanes, TransportMode};
-use penumbra::renderer::lights::emitter::{area_to_solid_angle, triangle_point, Emitter, EmitterShape};
+use penumbra::renderer::lights::emitter::{Emitter, EmitterShape};
 use penumbra::renderer::lights::lanes::sample_li_lanes;
 use penumbra::renderer::lights::{AreaLight, AreaSampling, Directional, Environment, LightSample, Point, Spot};
 use penumbra::renderer::materials::{
@@ -131,6 +131,8 @@ fn bsdfs(c: &mut Criterion) {
             BsdfKind::Dielectric(d) => Box::new(move |g| lanes_at_level(&[d.lanes(mode); 8], g)),
             BsdfKind::Plastic(p) => Box::new(move |g| lanes_at_level(&[p.lanes(mode); 8], g)),
             BsdfKind::Phong(p) => Box::new(move |g| lanes_at_level(&[p.lanes(mode); 8], g)),
+            // In the portable lanes, as the wavefront runs it at every level.
+            BsdfKind::Layered(l) => Box::new(move |g| lane_pass::<_, F8>(&[l.lanes(mode); 8], g)),
             // The blend of a Lambertian and a rough conductor as the mixture of their kernels.
             BsdfKind::Blend(blend) => match (blend.a.bsdf(blend.uv).kind, blend.b.bsdf(blend.uv).kind) {
                 (BsdfKind::Diffuse(d), BsdfKind::Conductor(c)) => {
@@ -143,7 +145,6 @@ fn bsdfs(c: &mut Criterion) {
                 }
                 _ => continue,
             },
-            _ => continue,
         };
         group.bench_function(BenchmarkId::new("8 lanes", name), |b| {
             b.iter(|| black_box(groups.iter().map(&run).sum::<f32>()))
@@ -323,40 +324,43 @@ fn light_kernels(c: &mut Criterion) {
     });
     group.finish();
 
-    // The one light kernel with a lane form: a triangle light's point by area and its
-    // solid-angle density, as the path tracer's eight-lane bounce takes it.
+    // A triangle light sampled by area (`TriangleByArea`), as the wavefront's light stage
+    // and the eight-lane bounce take it.
     let tri = [
         Vec3::new(-0.5, -0.5, 1.0),
         Vec3::new(0.5, -0.5, 1.0),
         Vec3::new(0.0, 0.6, 1.2),
     ];
-    let e = emitter_of(tri);
-    let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize();
+    let light = AreaLight {
+        emitter: emitter_of(tri),
+        radiance: Rgb::splat(3.0),
+        two_sided: false,
+        texture: None,
+    };
+    let kernel = light
+        .triangle_by_area(Vec3::ZERO, AreaSampling::Area)
+        .expect("an untextured triangle");
     let mut group = c.benchmark_group("triangle light by area");
     group.throughput(Throughput::Elements(N as u64));
     group.bench_function("scalar", |b| {
         b.iter(|| {
             let mut sum = 0.0f32;
             for (p, &(_, _, u)) in points.iter().zip(&inputs) {
-                let (q, n) = e.sample_area(u);
-                sum += e.area_pdf_to_solid_angle(*p, q, n).unwrap_or(0.0);
+                if let Some(s) = light.sample_li(*p, u, AreaSampling::Area) {
+                    sum += s.li.r / s.pdf;
+                }
             }
             black_box(sum)
         })
     });
     group.bench_function("8 lanes", |b| {
-        let corners = tri.map(|v| V3::from_lanes(&[v; 8]));
-        let (normals, area) = (V3::from_lanes(&[normal; 8]), F8::splat(e.area()));
         b.iter(|| {
-            let mut sum = F8::splat(0.0);
+            let mut sum = 0.0f32;
             for (p, i) in points.chunks_exact(8).zip(inputs.chunks_exact(8)) {
-                let ux = F8::from(std::array::from_fn(|k| i[k].2.x));
-                let uy = F8::from(std::array::from_fn(|k| i[k].2.y));
-                let (b1, b2) = warp::uniform_triangle_lanes(ux, uy);
-                let q = triangle_point(corners, b1, b2);
-                let p: &[Vec3; 8] = p.try_into().expect("chunks of eight");
-                let (pdf, ok) = area_to_solid_angle(V3::from_lanes(p), q, normals, area);
-                sum = sum + F8::select(ok, pdf, F8::splat(0.0));
+                let (p, u) = (p.try_into().expect("eight"), std::array::from_fn(|k| i[k].2));
+                for s in sample_li_lanes(&[kernel; 8], p, &u, false).into_iter().flatten() {
+                    sum += s.li.r / s.pdf;
+                }
             }
             black_box(sum)
         })

@@ -1,8 +1,8 @@
 //! The layered BSDF's random walks (the model is described in `layered.rs`) written once
 //! over lanes of any [`Real`] type: its one-lane instance is the scalar
 //! [`super::Layered`]. (Eight lanes at a time it is held to the one-lane bits by the
-//! tests; the wavefront does not run it in lanes, whose three SIMD levels of this kernel
-//! took the build past 12 GB.)
+//! tests; the wavefront's BSDF stage runs it in the portable eight lanes at every SIMD
+//! level, as three levels of this kernel cost the build too much.)
 //! Each lane walks on its own: its own generator, its own number of events; a lane's
 //! branches (scattering in the medium, the coating's underside, the base; a walk ending)
 //! are masks, and a lane draws its random numbers exactly when, and in the order, the

@@ -35,14 +35,17 @@ pub(super) struct BsdfAnswer {
 
 /// The BSDF kinds answered in lanes, one line each (bucket, `BsdfKind` variant): generates
 /// [`Buckets`] and its [`Buckets::answer`]. A kind with a lane kernel joins by one line here.
-/// Blends of two one-sided parts of these kinds are answered in lanes too, bucketed by
-/// the pair of kinds, as the mixture of the two kernels ([`MixtureLanes`]).
+/// Blends of two one-sided parts of the kinds before the `;` are answered in lanes too,
+/// bucketed by the pair of kinds, as the mixture of the two kernels ([`MixtureLanes`]);
+/// the kinds after it are answered in lanes only alone, and in the portable lanes at every
+/// SIMD level (see [`portable_kernel`]).
 macro_rules! lane_kinds {
-    ($($bucket:ident: $variant:ident),* $(,)?) => {
+    ($($bucket:ident: $variant:ident),* ; $($alone:ident: $alone_variant:ident),* $(,)?) => {
         /// The buckets of one depth's shading points, by index, kept between depths.
         #[derive(Default)]
         pub(super) struct Buckets {
             $($bucket: Vec<usize>,)*
+            $($alone: Vec<usize>,)*
             /// Blends, by the pair of their parts' kinds (in registry order).
             blends: [Vec<usize>; KINDS * KINDS],
         }
@@ -62,10 +65,12 @@ macro_rules! lane_kinds {
             /// Answers `queries[i]` of shading point `shs[i]` into `out[i]`.
             pub fn answer<'s>(&mut self, shs: &[Shading<'s>], queries: &[BsdfQuery], out: &mut [BsdfAnswer]) {
                 $(self.$bucket.clear();)*
+                $(self.$alone.clear();)*
                 self.blends.iter_mut().for_each(Vec::clear);
                 for (i, (sh, q)) in shs.iter().zip(queries).enumerate() {
                     match sh.bsdf.kind {
                         $(BsdfKind::$variant(_) => self.$bucket.push(i),)*
+                        $(BsdfKind::$alone_variant(_) => self.$alone.push(i),)*
                         BsdfKind::Blend(b) => {
                             let (a, c) = (b.a.bsdf(b.uv), b.b.bsdf(b.uv));
                             match (lane_kind(&a), lane_kind(&c)) {
@@ -73,21 +78,26 @@ macro_rules! lane_kinds {
                                 _ => out[i] = answer_one(sh, q),
                             }
                         }
-                        // Kinds not listed go one at a time.
+                        // Kinds not listed go one at a time (none today: every kind
+                        // has a lane kernel).
+                        #[allow(unreachable_patterns)]
                         _ => out[i] = answer_one(sh, q),
                     }
                 }
                 let mode = TransportMode::Radiance;
-                $(
-                    for group in self.$bucket.chunks(8) {
-                        answer_lanes(group, shs, queries, out, |b| match b {
-                            BsdfKind::$variant(k) => k.lanes(mode),
-                            _ => unreachable!("a bucket holds one kind"),
-                        });
-                    }
-                )*
+                $( lane_kinds!(@kind self.$bucket, shs, queries, out, mode, $variant, run_kernel); )*
+                $( lane_kinds!(@kind self.$alone, shs, queries, out, mode, $alone_variant, portable_kernel); )*
                 lane_kinds!(@blends self, shs, queries, out, mode, [$($variant)*], [$($variant)*]);
             }
+        }
+    };
+    // One kind's bucket answered by its kernel, run by `$run`.
+    (@kind $bucket:expr, $shs:ident, $q:ident, $out:ident, $mode:ident, $variant:ident, $run:ident) => {
+        for group in $bucket.chunks(8) {
+            answer_lanes(group, $shs, $q, $out, $run, |b| match b {
+                BsdfKind::$variant(k) => k.lanes($mode),
+                _ => unreachable!("a bucket holds one kind"),
+            });
         }
     };
     // Each pair (A, B) of kinds: its blends' bucket answered by the mixture of A's and B's
@@ -100,7 +110,7 @@ macro_rules! lane_kinds {
     (@row $self:ident, $shs:ident, $q:ident, $out:ident, $mode:ident, $pair:ident, $a:ident, [$($b:ident)*]) => {
         $(
             for group in $self.blends[$pair].chunks(8) {
-                answer_lanes(group, $shs, $q, $out, |k| match k {
+                answer_lanes(group, $shs, $q, $out, run_kernel, |k| match k {
                     BsdfKind::Blend(blend) => match (blend.a.bsdf(blend.uv).kind, blend.b.bsdf(blend.uv).kind) {
                         (BsdfKind::$a(x), BsdfKind::$b(y)) => MixtureLanes {
                             a: x.lanes($mode),
@@ -122,10 +132,10 @@ lane_kinds! {
     conductor: Conductor,
     dielectric: Dielectric,
     plastic: Plastic,
-    phong: Phong,
-    // Not the layered BSDF: its random walk inlined at three SIMD levels (and into every
-    // pair of kinds) took the build past 12 GB (24 GB with the pairs); it goes one at a
-    // time, by the one-lane instance of its kernel.
+    phong: Phong;
+    // The layered BSDF alone, not in blends: its random walk inlined into every pair of
+    // kinds at three SIMD levels took the build to 24 GB.
+    layered: Layered,
 }
 
 /// One point's answers from its scalar BSDF.
@@ -166,12 +176,14 @@ struct Results {
 }
 
 /// The points `group` (up to eight) of one kind, whose one-lane kernels `kernel` gives,
-/// answered in lanes; lanes past the group's end repeat its last point and are dropped.
+/// answered in lanes by `run` ([`run_kernel`] or [`portable_kernel`]); lanes past the
+/// group's end repeat its last point and are dropped.
 fn answer_lanes<'s, G: Gather>(
     group: &[usize],
     shs: &[Shading<'s>],
     queries: &[BsdfQuery],
     out: &mut [BsdfAnswer],
+    run: fn(&[G; 8], &Columns) -> Results,
     kernel: impl Fn(&BsdfKind<'s>) -> G,
 ) {
     let n = group.len();
@@ -198,7 +210,7 @@ fn answer_lanes<'s, G: Gather>(
         c.u_lobe[j] = q.u_lobe;
         (c.u[0][j], c.u[1][j]) = (q.u.x, q.u.y);
     }
-    let r = run_kernel(&one, &c);
+    let r = run(&one, &c);
     let v3 = |a: &[[f32; 8]; 3], j: usize| Vec3::new(a[0][j], a[1][j], a[2][j]);
     for (j, &i) in group.iter().enumerate() {
         let (lit, need_pdf) = queries[i].light.map_or((false, false), |(_, need)| (true, need));
@@ -260,6 +272,13 @@ fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
     penumbra_core::at_level!(avx512: avx512(one, c), avx2: avx2(one, c), portable: kernel::<G, F8>(one, c))
 }
 
+/// [`kernel`] in the portable lanes ([`F8`]: SSE halves) whatever the CPU's level, for
+/// kinds too large to compile three times: the layered BSDF's walk at the AVX levels cost
+/// the test build minutes and most of a gigabyte (docs/performance.md).
+fn portable_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
+    kernel::<G, F8>(one, c)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -305,8 +324,8 @@ mod tests {
 
     /// Shading points of blends of every pair of lane kinds (smooth and rough parts,
     /// weights 0 and 1 among them, some blends two-sided, some with a two-sided part, which
-    /// stays scalar), coated materials alone and in blends (one at a time), seen from both
-    /// sides and mixed with plain kinds in one depth: the
+    /// stays scalar), coated materials alone (in lanes) and in blends (one at a time), seen
+    /// from both sides and mixed with plain kinds in one depth: the
     /// buckets' answers in lanes are, point by point, the bits of each point's scalar BSDF.
     #[test]
     fn blends_answered_in_lanes_give_the_scalar_answers() {
@@ -336,7 +355,7 @@ mod tests {
             });
         }
         // Coated (layered) materials over diffuse and metal bases, clear or with a medium,
-        // alone and in blends, which go one at a time among the others.
+        // alone (their own bucket) and in blends (one at a time) among the others.
         for i in 0..60 {
             let c = |rng: &mut Pcg32| Texture::Constant(Rgb::new(rng.next_f32(), rng.next_f32(), rng.next_f32()));
             let rough = (i % 3 != 0).then(|| Roughness::isotropic(0.05 + 0.3 * rng.next_f32()));

@@ -14,11 +14,10 @@
 
 use super::{nee, MisHeuristic};
 use crate::bsdfs::{DiffuseLanes, LaneKernel};
-use crate::lights::emitter::{area_to_solid_angle, triangle_point, SMALL_SOLID_ANGLE};
-use crate::lights::{emits_towards, towards_point_lanes, EnvironmentLanes, LaneLightSample, LightKernel};
+use crate::lights::emitter::SMALL_SOLID_ANGLE;
+use crate::lights::{EnvironmentLanes, LaneLightSample, LightKernel, TriangleByArea};
 use penumbra_core::frame::Basis;
 use penumbra_core::lanes::{Real, V3};
-use penumbra_core::warp::uniform_triangle_lanes;
 
 /// A path at a Lambertian surface.
 #[derive(Clone, Copy)]
@@ -40,12 +39,8 @@ pub(super) struct DiffuseHit<R: Real> {
 /// The triangle light a path picked, with its probability.
 #[derive(Clone, Copy)]
 pub(super) struct TriangleLight<R: Real> {
-    pub v: [V3<R>; 3],
-    pub normal: V3<R>,
+    pub triangle: TriangleByArea<R>,
     pub centroid: V3<R>,
-    pub area: R,
-    pub radiance: V3<R>,
-    pub two_sided: R::Mask,
     pub p_pick: R,
 }
 
@@ -166,24 +161,13 @@ pub(super) fn bounce<R: Real>(
 fn light_sample<R: Real>(h: &DiffuseHit<R>, sh: &Shading<R>, light: &TriangleLight<R>, u: (R, R)) -> LightOut<R> {
     let to_centroid = light.centroid - sh.origin;
     let by_area = light
+        .triangle
         .area
         .cmp_lt(R::splat(SMALL_SOLID_ANGLE) * to_centroid.dot(to_centroid));
 
-    // The emitter's point by area and its solid-angle density (`Emitter::sample_uniform`),
-    // then `AreaLight::to_light_sample`.
-    let (b1, b2) = uniform_triangle_lanes(u.0, u.1);
-    let point = triangle_point(light.v, b1, b2);
-    let (pdf, defined) = area_to_solid_angle(sh.origin, point, light.normal, light.area);
-    let (wi, dist, sane) = towards_point_lanes(sh.origin, point, pdf);
-    let emits = emits_towards(light.normal, -wi, light.two_sided);
-    let li = V3::select(emits, light.radiance, V3::splat(0.0));
-    let sample = LaneLightSample {
-        wi,
-        li,
-        dist,
-        pdf,
-        ok: R::and(defined, sane),
-    };
+    // The scalar area light's sample by area (`AreaLight::sample_li`'s one-lane instance).
+    let sample = light.triangle.sample_li(sh.origin, u);
+    let (wi, dist) = (sample.wi, sample.dist);
     let out = lit_by(h, sh, &sample, light.p_pick);
     // The shadow ray runs to the light's point.
     let target = out.origin + wi.scale(dist);

@@ -1,6 +1,7 @@
 //! The light samples of a wavefront depth's shading points: for the kinds whose sampling
-//! has a lane kernel (environment, point, spot, directional; `lights/lanes.rs`), eight
-//! points at a time in SIMD lanes ([`sample_li_lanes`]), area lights one by one. Each
+//! has a lane kernel (environment, point, spot, directional; `lights/lanes.rs`; untextured
+//! triangles sampled by area, [`crate::lights::TriangleByArea`]), eight points at a time in
+//! SIMD lanes ([`sample_li_lanes`]), other area lights one by one. Each
 //! sample is what the light's scalar `sample_li` gives: that is the one-lane instance of
 //! the same kernel.
 
@@ -39,9 +40,16 @@ pub(super) fn sample_lights(
         )*};
     }
     in_lanes_of!(Environment: false, Point: true, Spot: true, Directional: true);
+    // Untextured triangles sampled by area in lanes, other area lights one by one.
+    in_lanes(requests, out, false, |r| match kind(r) {
+        Light::Area(a) => a.triangle_by_area(r.p, sampling),
+        _ => None,
+    });
     for (r, o) in requests.iter().zip(out.iter_mut()) {
-        if let l @ Light::Area(_) = kind(r) {
-            *o = l.sample_li(r.p, r.u, sampling);
+        if let l @ Light::Area(a) = kind(r) {
+            if a.triangle_by_area(r.p, sampling).is_none() {
+                *o = l.sample_li(r.p, r.u, sampling);
+            }
         }
     }
 }

@@ -7,7 +7,7 @@ use super::diffuse_lanes::{self, DiffuseHit, TriangleLight};
 use super::nee::{self, LightStrategy, Shading};
 use super::path::{PathState, PathTracer, Shadows};
 use super::{RayCounts, SHADOW_T_MAX};
-use crate::lights::{AreaLight, Environment, Light, LightSelection};
+use crate::lights::{AreaLight, Environment, Light, LightSelection, TriangleByArea};
 use crate::materials::DiffuseMaterial;
 use crate::{Interaction, Material, Scene, Texture};
 use glam::{Vec2, Vec3};
@@ -231,12 +231,14 @@ fn lane_kernel<L: Lane8>(input: &LaneInput) -> LaneResults {
         beta: c.v3(Columns::BETA),
     };
     let light = TriangleLight {
-        v: [c.v3(Columns::V), c.v3(Columns::V + 3), c.v3(Columns::V + 6)],
-        normal: c.v3(Columns::LIGHT_NORMAL),
+        triangle: TriangleByArea {
+            v: [c.v3(Columns::V), c.v3(Columns::V + 3), c.v3(Columns::V + 6)],
+            normal: c.v3(Columns::LIGHT_NORMAL),
+            area: c.f8(Columns::AREA),
+            radiance: c.v3(Columns::RADIANCE),
+            two_sided: L::mask_of(f.light_two_sided),
+        },
         centroid: c.v3(Columns::CENTROID),
-        area: c.f8(Columns::AREA),
-        radiance: c.v3(Columns::RADIANCE),
-        two_sided: L::mask_of(f.light_two_sided),
         p_pick: c.f8(Columns::P_PICK),
     };
     let env = env.map(Environment::lanes);

@@ -6,7 +6,9 @@
 //! quad, disk, sphere or mesh shape; a mesh emits from every triangle (one light each,
 //! grouped as one light for selection).
 
+use super::area_lanes::TriangleByArea;
 use super::emitter::{Emitter, EmitterSample};
+use super::lanes::LightKernel;
 use super::{EmissionSample, LightModel, LightSample, SceneSphere};
 use crate::Texture;
 use glam::{Vec2, Vec3};
@@ -102,8 +104,12 @@ impl AreaLight {
         penumbra_core::choose_lanes!(R, emits, self.radiance_at_lanes(point), V3::splat(0.0))
     }
 
-    /// Light arriving at `p` from a point chosen by `strategy` from `u`.
+    /// Light arriving at `p` from a point chosen by `strategy` from `u` (an untextured
+    /// triangle by area: the one-lane instance of [`TriangleByArea`]).
     pub fn sample_li(&self, p: Vec3, u: Vec2, strategy: AreaSampling) -> Option<LightSample> {
+        if let Some(k) = self.triangle_by_area(p, strategy) {
+            return k.sample_li(p.into(), (u.x, u.y)).one(false);
+        }
         let s = match self.resolve(p, strategy) {
             AreaSampling::Area => self.emitter.sample_uniform(p, u),
             _ => self.emitter.sample_solid_angle(p, u),
@@ -149,6 +155,22 @@ impl AreaLight {
             AreaSampling::Area => self.emitter.area_pdf_to_solid_angle(p, point, normal).unwrap_or(0.0),
             _ => self.emitter.solid_angle_pdf(p, point, normal),
         }
+    }
+
+    /// This light's one-lane [`TriangleByArea`] kernel if it is an untextured triangle that
+    /// `strategy` samples by area at `p`.
+    pub fn triangle_by_area(&self, p: Vec3, strategy: AreaSampling) -> Option<TriangleByArea<f32>> {
+        if self.texture.is_some() || self.resolve(p, strategy) != AreaSampling::Area {
+            return None;
+        }
+        let (v, normal, _) = self.emitter.triangle_parts()?;
+        Some(TriangleByArea {
+            v: v.map(V3::from),
+            normal: normal.into(),
+            area: self.emitter.area(),
+            radiance: self.radiance.into(),
+            two_sided: self.two_sided,
+        })
     }
 
     /// What `strategy` means at `p`: `Adaptive` becomes area or solid angle.

@@ -115,6 +115,39 @@ fn point_spot_and_directional_lanes_give_the_scalar_bits() {
     }
 }
 
+/// Eight untextured triangle lights (some two-sided, some black) sampled by area in eight
+/// lanes give each lane the scalar area light's sample, including lanes with none (a
+/// point in a light's plane, the light's back seen from a one-sided light gives black).
+#[test]
+fn triangle_lights_by_area_in_lanes_give_the_scalar_bits() {
+    let mut rng = Pcg32::new(5, 9);
+    let mut samples = 0;
+    for _ in 0..2_000 {
+        let lights: [AreaLight; 8] = std::array::from_fn(|k| AreaLight {
+            emitter: emitter::Emitter::new(emitter::EmitterShape::Triangle {
+                v: [point(&mut rng), point(&mut rng), point(&mut rng)],
+            })
+            .expect("a triangle with an area"),
+            radiance: colour(&mut rng, k),
+            two_sided: k % 3 == 0,
+            texture: None,
+        });
+        let one = lights.each_ref().map(|l| {
+            l.triangle_by_area(Vec3::ZERO, AreaSampling::Area)
+                .expect("an untextured triangle")
+        });
+        // Lane 3's point in its light's plane: no density there.
+        let (v, _, _) = lights[3].emitter.triangle_parts().expect("a triangle");
+        samples += compare(
+            &mut rng,
+            &TriangleByArea::gather::<F8>(&one),
+            Some(0.5 * (v[0] + v[1])),
+            |k, p, u| lights[k].sample_li(p, u, AreaSampling::Area),
+        );
+    }
+    assert!(samples > 10_000 && samples < 16_000, "{samples} samples of 16,000");
+}
+
 /// A rotated image environment (a bright spot, a black row, which is never sampled, and a
 /// gradient) and a constant one.
 fn environments() -> [Environment; 2] {

@@ -16,6 +16,7 @@
 //! kind has a case.
 
 mod area;
+mod area_lanes;
 mod directional;
 pub mod emitter;
 #[cfg(test)]
@@ -31,6 +32,7 @@ mod spot;
 mod tests_table;
 
 pub use area::{emits_towards, towards_point_lanes, AreaLight, AreaSampling, EmissionTexture};
+pub use area_lanes::TriangleByArea;
 pub use directional::{Directional, DirectionalLanes};
 pub use environment::{Environment, EnvironmentLanes};
 pub use lanes::{LaneLightSample, LightGather, LightKernel};
