@@ -170,13 +170,8 @@ impl<L: Lane8> V3<L> {
     /// The vector `f` gives of each of eight items, one item per lane (gathering eight
     /// one-lane kernels' fields into one eight-lane kernel).
     #[inline(always)]
-    pub fn gather<T>(items: &[T; 8], f: impl Fn(&T) -> V3<f32>) -> Self {
-        let v = items.each_ref().map(f);
-        V3::new(
-            L::from_array(v.map(|v| v.x)),
-            L::from_array(v.map(|v| v.y)),
-            L::from_array(v.map(|v| v.z)),
-        )
+    pub fn gather<T, V: Into<glam::Vec3>>(items: &[T; 8], f: impl Fn(&T) -> V) -> Self {
+        V3::from_lanes(&items.each_ref().map(|t| f(t).into()))
     }
 
     /// The vector of lane `k`.

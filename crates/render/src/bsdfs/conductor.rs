@@ -112,10 +112,10 @@ impl Gather for ConductorLanes<f32> {
     #[inline(always)]
     fn gather<L: Lane8>(one: &[Self; 8]) -> ConductorLanes<L> {
         ConductorLanes {
-            eta: V3::from_lanes(&one.map(|c| c.eta.into())),
-            k: V3::from_lanes(&one.map(|c| c.k.into())),
+            eta: V3::gather(one, |c| c.eta),
+            k: V3::gather(one, |c| c.k),
             schlick: L::mask_of(one.map(|c| c.schlick)),
-            specular: V3::from_lanes(&one.map(|c| c.specular.into())),
+            specular: V3::gather(one, |c| c.specular),
             ggx: Ggx {
                 ax: L::from_array(one.map(|c| c.ggx.ax)),
                 ay: L::from_array(one.map(|c| c.ggx.ay)),

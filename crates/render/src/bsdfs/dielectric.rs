@@ -271,8 +271,8 @@ impl Gather for DielectricLanes<f32> {
     fn gather<L: Lane8>(one: &[Self; 8]) -> DielectricLanes<L> {
         DielectricLanes {
             eta: L::from_array(one.map(|d| d.eta)),
-            reflectance: V3::from_lanes(&one.map(|d| d.reflectance.into())),
-            transmittance: V3::from_lanes(&one.map(|d| d.transmittance.into())),
+            reflectance: V3::gather(one, |d| d.reflectance),
+            transmittance: V3::gather(one, |d| d.transmittance),
             ggx: Ggx {
                 ax: L::from_array(one.map(|d| d.ggx.ax)),
                 ay: L::from_array(one.map(|d| d.ggx.ay)),

@@ -53,7 +53,7 @@ impl Gather for DiffuseLanes<f32> {
     type Lanes<L: Lane8> = DiffuseLanes<L>;
     #[inline(always)]
     fn gather<L: Lane8>(one: &[Self; 8]) -> DiffuseLanes<L> {
-        DiffuseLanes::new(V3::from_lanes(&one.map(|d| d.reflectance.into())))
+        DiffuseLanes::new(V3::gather(one, |d| d.reflectance))
     }
 }
 

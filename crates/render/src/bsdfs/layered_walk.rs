@@ -484,7 +484,7 @@ impl Gather for LayeredLanes<f32> {
                 specular: L::mask_of(one.map(|l| l.base.specular)),
             },
             thickness: real(|l| l.thickness),
-            albedo: V3::from_lanes(&one.map(|l| l.albedo.into())),
+            albedo: V3::gather(one, |l| l.albedo),
             g: real(|l| l.g),
             max_depth: real(|l| l.max_depth),
             samples: real(|l| l.samples),

@@ -90,11 +90,11 @@ impl Gather for PhongLanes<f32> {
     #[inline(always)]
     fn gather<L: Lane8>(one: &[Self; 8]) -> PhongLanes<L> {
         PhongLanes {
-            diffuse: V3::from_lanes(&one.map(|b| b.diffuse.into())),
-            specular: V3::from_lanes(&one.map(|b| b.specular.into())),
+            diffuse: V3::gather(one, |b| b.diffuse),
+            specular: V3::gather(one, |b| b.specular),
             exponent: L::from_array(one.map(|b| b.exponent)),
-            mirror: V3::from_lanes(&one.map(|b| b.mirror.into())),
-            transmission: V3::from_lanes(&one.map(|b| b.transmission.into())),
+            mirror: V3::gather(one, |b| b.mirror),
+            transmission: V3::gather(one, |b| b.transmission),
             eta: L::from_array(one.map(|b| b.eta)),
             radiance: one[0].radiance,
         }

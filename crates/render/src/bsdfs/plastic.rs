@@ -183,8 +183,8 @@ impl<'a> Gather for PlasticLanes<'a, f32> {
     #[inline(always)]
     fn gather<L: Lane8>(one: &[Self; 8]) -> PlasticLanes<'a, L> {
         PlasticLanes {
-            diffuse: V3::from_lanes(&one.map(|p| p.diffuse.into())),
-            specular: V3::from_lanes(&one.map(|p| p.specular.into())),
+            diffuse: V3::gather(one, |p| p.diffuse),
+            specular: V3::gather(one, |p| p.specular),
             eta: L::from_array(one.map(|p| p.eta)),
             internal_reflectance: L::from_array(one.map(|p| p.internal_reflectance)),
             tables: one.map(|p| p.tables[0]),

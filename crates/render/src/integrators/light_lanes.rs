@@ -33,7 +33,7 @@ pub(super) fn sample_lights(
     // Each kind with a lane kernel, and whether its samples are delta ones.
     macro_rules! in_lanes_of {
         ($($variant:ident: $delta:expr),*) => {$(
-            in_lanes(requests, out, $delta, |r| match kind(r) {
+            in_lanes(requests, out, $delta, |_, r| match kind(r) {
                 Light::$variant(l) => Some(l.lanes()),
                 _ => None,
             });
@@ -41,26 +41,30 @@ pub(super) fn sample_lights(
     }
     in_lanes_of!(Environment: false, Point: true, Spot: true, Directional: true);
     // Untextured triangles sampled by area in lanes, other area lights one by one.
-    in_lanes(requests, out, false, |r| match kind(r) {
-        Light::Area(a) => a.triangle_by_area(r.p, sampling),
+    let mut one_by_one = Vec::new();
+    in_lanes(requests, out, false, |j, r| match kind(r) {
+        Light::Area(a) => {
+            let kernel = a.triangle_by_area(r.p, sampling);
+            if kernel.is_none() {
+                one_by_one.push(j);
+            }
+            kernel
+        }
         _ => None,
     });
-    for (r, o) in requests.iter().zip(out.iter_mut()) {
-        if let l @ Light::Area(a) = kind(r) {
-            if a.triangle_by_area(r.p, sampling).is_none() {
-                *o = l.sample_li(r.p, r.u, sampling);
-            }
-        }
+    for j in one_by_one {
+        let r = &requests[j];
+        out[j] = kind(r).sample_li(r.p, r.u, sampling);
     }
 }
 
-/// The requests whose light `one` gives a one-lane kernel of kind `G` for, eight at a
-/// time (a last group's spare lanes repeat its last request; their results are dropped).
+/// The requests whose light `one` (given each request's index) gives a one-lane kernel
+/// of kind `G` for, eight at a time (a last group's spare lanes repeat its last request; their results are dropped).
 fn in_lanes<G: LightGather>(
     requests: &[LightRequest],
     out: &mut [Option<LightSample>],
     delta: bool,
-    one: impl Fn(&LightRequest) -> Option<G>,
+    mut one: impl FnMut(usize, &LightRequest) -> Option<G>,
 ) {
     let mut group = [0usize; 8];
     // Filled whole by a group's first kernel, so that no lane is ever unset.
@@ -77,7 +81,7 @@ fn in_lanes<G: LightGather>(
         }
     };
     for (j, r) in requests.iter().enumerate() {
-        let Some(g) = one(r) else { continue };
+        let Some(g) = one(j, r) else { continue };
         let ks = kernels.get_or_insert([g; 8]);
         (group[n], ks[n]) = (j, g);
         n += 1;

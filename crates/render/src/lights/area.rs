@@ -6,8 +6,8 @@
 //! quad, disk, sphere or mesh shape; a mesh emits from every triangle (one light each,
 //! grouped as one light for selection).
 
-use super::area_lanes::TriangleByArea;
-use super::emitter::{Emitter, EmitterSample};
+use super::area_lanes::{sample_at, TriangleByArea};
+use super::emitter::Emitter;
 use super::lanes::LightKernel;
 use super::{EmissionSample, LightModel, LightSample, SceneSphere};
 use crate::Texture;
@@ -107,26 +107,25 @@ impl AreaLight {
     /// Light arriving at `p` from a point chosen by `strategy` from `u` (an untextured
     /// triangle by area: the one-lane instance of [`TriangleByArea`]).
     pub fn sample_li(&self, p: Vec3, u: Vec2, strategy: AreaSampling) -> Option<LightSample> {
-        if let Some(k) = self.triangle_by_area(p, strategy) {
+        let strategy = self.resolve(p, strategy);
+        if let Some(k) = self.triangle_kernel(strategy) {
             return k.sample_li(p.into(), (u.x, u.y)).one(false);
         }
-        let s = match self.resolve(p, strategy) {
+        let s = match strategy {
             AreaSampling::Area => self.emitter.sample_uniform(p, u),
             _ => self.emitter.sample_solid_angle(p, u),
         }?;
-        self.to_light_sample(p, &s)
-    }
-
-    fn to_light_sample(&self, p: Vec3, s: &EmitterSample) -> Option<LightSample> {
-        let (wi, dist, ok) = towards_point_lanes(p.into(), s.point.into(), s.pdf);
-        let wi = Vec3::from(wi);
-        ok.then(|| LightSample {
-            wi,
-            li: self.le(s.point, s.normal, -wi),
-            dist,
-            pdf: s.pdf,
-            delta: false,
-        })
+        let point = V3::from(s.point);
+        let radiance = self.radiance_at_lanes(point);
+        sample_at(
+            p.into(),
+            point,
+            s.normal.into(),
+            (s.pdf, true),
+            radiance,
+            self.two_sided,
+        )
+        .one(false)
     }
 
     /// The radiance the light's emitting side sends from `point`, per lane of any [`Real`]
@@ -160,7 +159,12 @@ impl AreaLight {
     /// This light's one-lane [`TriangleByArea`] kernel if it is an untextured triangle that
     /// `strategy` samples by area at `p`.
     pub fn triangle_by_area(&self, p: Vec3, strategy: AreaSampling) -> Option<TriangleByArea<f32>> {
-        if self.texture.is_some() || self.resolve(p, strategy) != AreaSampling::Area {
+        self.triangle_kernel(self.resolve(p, strategy))
+    }
+
+    /// [`AreaLight::triangle_by_area`] for a strategy already resolved at the point.
+    fn triangle_kernel(&self, resolved: AreaSampling) -> Option<TriangleByArea<f32>> {
+        if self.texture.is_some() || resolved != AreaSampling::Area {
             return None;
         }
         let (v, normal, _) = self.emitter.triangle_parts()?;
@@ -235,9 +239,8 @@ pub fn emits_towards<R: Real>(normal: V3<R>, w: V3<R>, two_sided: R::Mask) -> R:
 
 /// The unit direction from `p` towards `point` (a point of an area light sampled with
 /// solid-angle density `pdf`), the distance, and where these make a light sample (distance
-/// and density positive and finite), per lane of any [`Real`] type. The scalar area
-/// light's sample is its one-lane instance (the radiance then by [`AreaLight::le`]), and
-/// the path tracer's eight-lane bounce takes its triangle lights' samples by it.
+/// and density positive and finite), per lane of any [`Real`] type; part of every area
+/// light's sample (`area_lanes::sample_at`).
 #[inline(always)]
 pub fn towards_point_lanes<R: Real>(p: V3<R>, point: V3<R>, pdf: R) -> (V3<R>, R, R::Mask) {
     let (zero, inf) = (R::splat(0.0), R::splat(f32::INFINITY));

@@ -32,15 +32,33 @@ impl<R: Real, S: Spectrum<R>> LightKernel<R, S> for TriangleByArea<R, S> {
         let (b1, b2) = uniform_triangle_lanes(u.0, u.1);
         let point = triangle_point(self.v, b1, b2);
         let (pdf, defined) = area_to_solid_angle(p, point, self.normal, self.area);
-        let (wi, dist, sane) = towards_point_lanes(p, point, pdf);
-        let emits = emits_towards(self.normal, -wi, self.two_sided);
-        LaneLightSample {
-            wi,
-            li: S::select(emits, self.radiance, S::splat(0.0)),
-            dist,
-            pdf,
-            ok: R::and(defined, sane),
-        }
+        sample_at(p, point, self.normal, (pdf, defined), self.radiance, self.two_sided)
+    }
+}
+
+/// The sample at `p` of `point`, a point of an area light of normal `normal` drawn with
+/// solid-angle density `pdf.0` (defined where `pdf.1`), whose emitting side (or sides)
+/// sends `radiance` there: the direction and distance to it, and the radiance arriving
+/// (black where the emitting side faces away), per lane of any [`Real`] type. Every area
+/// light's sample ends here, whatever drew the point.
+#[inline(always)]
+pub(super) fn sample_at<R: Real, S: Spectrum<R>>(
+    p: V3<R>,
+    point: V3<R>,
+    normal: V3<R>,
+    pdf: (R, R::Mask),
+    radiance: S,
+    two_sided: R::Mask,
+) -> LaneLightSample<R, S> {
+    let (pdf, defined) = pdf;
+    let (wi, dist, sane) = towards_point_lanes(p, point, pdf);
+    let emits = emits_towards(normal, -wi, two_sided);
+    LaneLightSample {
+        wi,
+        li: S::select(emits, radiance, S::splat(0.0)),
+        dist,
+        pdf,
+        ok: R::and(defined, sane),
     }
 }
 

@@ -68,8 +68,8 @@ impl LightGather for DirectionalLanes<f32> {
     #[inline(always)]
     fn gather<L: Lane8>(one: &[Self; 8]) -> DirectionalLanes<L> {
         DirectionalLanes {
-            direction: V3::from_lanes(&one.map(|l| l.direction.into())),
-            irradiance: V3::from_lanes(&one.map(|l| l.irradiance.into())),
+            direction: V3::gather(one, |l| l.direction),
+            irradiance: V3::gather(one, |l| l.irradiance),
         }
     }
 }

@@ -58,8 +58,8 @@ impl LightGather for PointLanes<f32> {
     #[inline(always)]
     fn gather<L: Lane8>(one: &[Self; 8]) -> PointLanes<L> {
         PointLanes {
-            position: V3::from_lanes(&one.map(|l| l.position.into())),
-            intensity: V3::from_lanes(&one.map(|l| l.intensity.into())),
+            position: V3::gather(one, |l| l.position),
+            intensity: V3::gather(one, |l| l.intensity),
         }
     }
 }

@@ -151,9 +151,9 @@ impl LightGather for SpotLanes<f32> {
     #[inline(always)]
     fn gather<L: Lane8>(one: &[Self; 8]) -> SpotLanes<L> {
         SpotLanes {
-            position: V3::from_lanes(&one.map(|l| l.position.into())),
-            direction: V3::from_lanes(&one.map(|l| l.direction.into())),
-            intensity: V3::from_lanes(&one.map(|l| l.intensity.into())),
+            position: V3::gather(one, |l| l.position),
+            direction: V3::gather(one, |l| l.direction),
+            intensity: V3::gather(one, |l| l.intensity),
             cos_total: L::from_array(one.map(|l| l.cos_total)),
             cos_falloff_start: L::from_array(one.map(|l| l.cos_falloff_start)),
         }
