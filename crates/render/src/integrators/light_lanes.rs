@@ -59,7 +59,8 @@ pub(super) fn sample_lights(
 }
 
 /// The requests whose light `one` (given each request's index) gives a one-lane kernel
-/// of kind `G` for, eight at a time (a last group's spare lanes repeat its last request; their results are dropped).
+/// of kind `G` for, eight at a time (a last group's spare lanes repeat its last request;
+/// their results are dropped).
 fn in_lanes<G: LightGather>(
     requests: &[LightRequest],
     out: &mut [Option<LightSample>],
