@@ -139,6 +139,18 @@ impl<P: Copy> Distribution1D<P> {
         (i as usize, pmf, rest)
     }
 
+    /// Asks the caches for the guide table's entries of `u`'s bucket, which
+    /// [`Distribution1D::prefetch_sample`] reads.
+    #[inline]
+    fn prefetch_guide(&self, u: f32) {
+        if self.len() > SMALL {
+            let n = self.len();
+            let j = ((u * n as f32) as usize).min(n - 1);
+            crate::simd::prefetch(&self.table[j]);
+            crate::simd::prefetch(&self.table[j + 1]);
+        }
+    }
+
     /// Asks the caches for the entries a sample with `u` reads: the ends of its guide
     /// table's bucket (the guide entries themselves are read here, and no branch waits on
     /// them, so the loads of several lanes' calls overlap).
@@ -279,23 +291,37 @@ impl<P: Copy> Distribution2D<P> {
 
     /// [`Distribution2D::sample`] with the payload of the cell the point lies in.
     pub fn sample_item(&self, u: [f32; 2]) -> ([f32; 2], f32, P) {
-        self.sample_in_row(u[0], self.sample_row(u))
+        let picked = self.sample_row(u);
+        self.prefetch_in_row(u[0], picked);
+        self.sample_in_row(u[0], picked)
     }
 
-    /// The first half of [`Distribution2D::sample_item`]: the row `u[1]` picks (its number,
+    /// The first step of [`Distribution2D::sample_item`]: the row `u[1]` picks (its number,
     /// probability and `u[1]` rescaled within it), having asked the caches for the row's
-    /// entries that [`Distribution2D::sample_in_row`] with `u[0]` starts from. Lanes that
-    /// take their rows first and finish after wait on their rows' memory together.
+    /// guide entries that [`Distribution2D::prefetch_in_row`] with `u[0]` reads. Lanes
+    /// that take every step for all lanes before the next wait on their memory together:
+    /// a large map's tables are not in the caches, and each step's reads depend on the
+    /// step before.
     #[inline]
     pub fn sample_row(&self, u: [f32; 2]) -> (usize, f32, f32) {
         let picked = self.marginal.sample(u[1]);
         if let Some(row) = &self.rows[picked.0] {
-            row.prefetch_sample(u[0]);
+            row.prefetch_guide(u[0]);
         }
         picked
     }
 
-    /// The second half of [`Distribution2D::sample_item`]: the point in the row `picked`
+    /// The second step of [`Distribution2D::sample_item`]: asks the caches for the
+    /// entries of the row `picked` that [`Distribution2D::sample_in_row`] with `u0` reads
+    /// (the ends of its guide bucket, the payload).
+    #[inline]
+    pub fn prefetch_in_row(&self, u0: f32, picked: (usize, f32, f32)) {
+        if let Some(row) = &self.rows[picked.0] {
+            row.prefetch_sample(u0);
+        }
+    }
+
+    /// The last step of [`Distribution2D::sample_item`]: the point in the row `picked`
     /// ([`Distribution2D::sample_row`]'s answer) that `u0` picks, its density and payload.
     #[inline]
     pub fn sample_in_row(&self, u0: f32, picked: (usize, f32, f32)) -> ([f32; 2], f32, P) {

@@ -333,11 +333,16 @@ impl EnvironmentLanes<'_> {
             ),
             Some((_, distribution)) => {
                 // Each lane's cell: its point (x, y) in the map, radiance and 2D density.
-                // Every lane's row first, then every lane's point in it: the lanes'
-                // reads of their rows (most of a large map is not in the caches) overlap.
+                // Every lane's row first, then every lane's guide entries, then every
+                // lane's point: the lanes' reads of their rows (most of a large map is
+                // not in the caches) overlap.
                 let [row, p_row, rest] = R::map_lanes([u.0, u.1], |_, u| {
                     let (row, p_row, rest) = distribution.sample_row(u);
                     [row as f32, p_row, rest]
+                });
+                let [] = R::map_lanes([u.0, row, p_row, rest], |_, [u0, row, p_row, rest]| {
+                    distribution.prefetch_in_row(u0, (row as usize, p_row, rest));
+                    []
                 });
                 let [x, y, r, g, b, density] = R::map_lanes([u.0, row, p_row, rest], |_, [u0, row, p_row, rest]| {
                     let ([x, y], _, texel) = distribution.sample_in_row(u0, (row as usize, p_row, rest));
