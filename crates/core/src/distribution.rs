@@ -85,11 +85,17 @@ impl<P: Copy> Distribution1D<P> {
         self.table.partition_point(|e| e.cdf <= u).clamp(1, self.len()) - 1
     }
 
+    /// The guide table's bucket that u falls in.
+    #[inline]
+    fn bucket_index(&self, u: f32) -> usize {
+        let n = self.len();
+        ((u * n as f32) as usize).min(n - 1)
+    }
+
     /// The guide table's first and last item of u's bucket.
     #[inline]
     fn bucket(&self, u: f32) -> (usize, usize) {
-        let n = self.len();
-        let j = ((u * n as f32) as usize).min(n - 1);
+        let j = self.bucket_index(u);
         (self.table[j].guide as usize, self.table[j + 1].guide as usize)
     }
 
@@ -144,8 +150,7 @@ impl<P: Copy> Distribution1D<P> {
     #[inline]
     fn prefetch_guide(&self, u: f32) {
         if self.len() > SMALL {
-            let n = self.len();
-            let j = ((u * n as f32) as usize).min(n - 1);
+            let j = self.bucket_index(u);
             crate::simd::prefetch(&self.table[j]);
             crate::simd::prefetch(&self.table[j + 1]);
         }
