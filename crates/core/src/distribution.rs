@@ -294,11 +294,10 @@ impl<P: Copy> Distribution2D<P> {
         (point, density)
     }
 
-    /// [`Distribution2D::sample`] with the payload of the cell the point lies in.
+    /// [`Distribution2D::sample`] with the payload of the cell the point lies in (one
+    /// sample alone: the steps' prefetches serve only lanes that interleave them).
     pub fn sample_item(&self, u: [f32; 2]) -> ([f32; 2], f32, P) {
-        let picked = self.sample_row(u);
-        self.prefetch_in_row(u[0], picked);
-        self.sample_in_row(u[0], picked)
+        self.sample_in_row(u[0], self.sample_row(u))
     }
 
     /// The first step of [`Distribution2D::sample_item`]: the row `u[1]` picks (its number,
