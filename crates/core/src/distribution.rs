@@ -315,7 +315,8 @@ impl<P: Copy> Distribution2D<P> {
         picked
     }
 
-    /// The second step of [`Distribution2D::sample_item`]: asks the caches for the
+    /// The second step of [`Distribution2D::sample_item`] taken in lanes (a sample alone
+    /// skips it): asks the caches for the
     /// entries of the row `picked` that [`Distribution2D::sample_in_row`] with `u0` reads
     /// (the ends of its guide bucket, the payload).
     #[inline]
