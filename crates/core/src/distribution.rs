@@ -316,9 +316,9 @@ impl<P: Copy> Distribution2D<P> {
     }
 
     /// The second step of [`Distribution2D::sample_item`] taken in lanes (a sample alone
-    /// skips it): asks the caches for the
-    /// entries of the row `picked` that [`Distribution2D::sample_in_row`] with `u0` reads
-    /// (the ends of its guide bucket, the payload).
+    /// skips it): asks the caches for the entries of the row `picked` that
+    /// [`Distribution2D::sample_in_row`] with `u0` reads (the ends of its guide bucket,
+    /// the payload).
     #[inline]
     pub fn prefetch_in_row(&self, u0: f32, picked: (usize, f32, f32)) {
         if let Some(row) = &self.rows[picked.0] {
