@@ -19,12 +19,14 @@ pub(super) struct LightRequest {
     pub u: Vec2,
 }
 
-/// The samples of `requests`, in their order, into `out`.
+/// The samples of `requests`, in their order, into `out` (`one_by_one`: the batch's
+/// scratch list of the requests no lane kernel takes).
 pub(super) fn sample_lights(
     scene: &Scene,
     requests: &[LightRequest],
     sampling: AreaSampling,
     out: &mut Vec<Option<LightSample>>,
+    one_by_one: &mut Vec<usize>,
 ) {
     out.clear();
     out.resize(requests.len(), None);
@@ -41,7 +43,7 @@ pub(super) fn sample_lights(
     }
     in_lanes_of!(Environment: false, Point: true, Spot: true, Directional: true);
     // Untextured triangles sampled by area in lanes, other area lights one by one.
-    let mut one_by_one = Vec::new();
+    one_by_one.clear();
     in_lanes(requests, out, false, |j, r| match kind(r) {
         Light::Area(a) => {
             let kernel = a.triangle_by_area(r.p, sampling);
@@ -52,7 +54,7 @@ pub(super) fn sample_lights(
         }
         _ => None,
     });
-    for j in one_by_one {
+    for &j in one_by_one.iter() {
         let r = &requests[j];
         out[j] = kind(r).sample_li(r.p, r.u, sampling);
     }

@@ -209,6 +209,7 @@ impl PathTracer {
         // The lights picked there (their probabilities), and their samples.
         let (mut picks, mut requests, mut light_samples) =
             (Vec::with_capacity(N), Vec::with_capacity(N), Vec::with_capacity(N));
+        let mut one_by_one = Vec::with_capacity(N);
         let mut buckets = Buckets::default();
         // The paths still alive, compacted as paths end.
         for (i, l) in live.iter_mut().enumerate() {
@@ -327,7 +328,7 @@ impl PathTracer {
                 let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
                 queries.push(BsdfQuery { light: None, u_lobe, u });
             }
-            sample_lights(scene, &requests, nee.sampling, &mut light_samples);
+            sample_lights(scene, &requests, nee.sampling, &mut light_samples, &mut one_by_one);
             points.clear();
             let mut samples = light_samples.iter();
             for ((query, sh), pick) in queries.iter_mut().zip(&shs).zip(&picks) {

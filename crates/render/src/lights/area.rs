@@ -116,13 +116,12 @@ impl AreaLight {
             _ => self.emitter.sample_solid_angle(p, u),
         }?;
         let point = V3::from(s.point);
-        let radiance = self.radiance_at_lanes(point);
         sample_at(
             p.into(),
             point,
             s.normal.into(),
             (s.pdf, true),
-            radiance,
+            || self.radiance_at_lanes(point),
             self.two_sided,
         )
         .one(false)

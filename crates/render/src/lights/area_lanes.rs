@@ -32,22 +32,23 @@ impl<R: Real, S: Spectrum<R>> LightKernel<R, S> for TriangleByArea<R, S> {
         let (b1, b2) = uniform_triangle_lanes(u.0, u.1);
         let point = triangle_point(self.v, b1, b2);
         let (pdf, defined) = area_to_solid_angle(p, point, self.normal, self.area);
-        sample_at(p, point, self.normal, (pdf, defined), self.radiance, self.two_sided)
+        sample_at(p, point, self.normal, (pdf, defined), || self.radiance, self.two_sided)
     }
 }
 
 /// The sample at `p` of `point`, a point of an area light of normal `normal` drawn with
 /// solid-angle density `pdf.0` (defined where `pdf.1`), whose emitting side (or sides)
-/// sends `radiance` there: the direction and distance to it, and the radiance arriving
-/// (black where the emitting side faces away), per lane of any [`Real`] type. Every area
-/// light's sample ends here, whatever drew the point.
+/// sends `radiance()` there: the direction and distance to it, and the radiance arriving
+/// (black where the emitting side faces away; `radiance` is called only if some lane's
+/// side faces `p`, so a textured light skips its lookup otherwise), per lane of any
+/// [`Real`] type. Every area light's sample ends here, whatever drew the point.
 #[inline(always)]
 pub(super) fn sample_at<R: Real, S: Spectrum<R>>(
     p: V3<R>,
     point: V3<R>,
     normal: V3<R>,
     pdf: (R, R::Mask),
-    radiance: S,
+    radiance: impl FnOnce() -> S,
     two_sided: R::Mask,
 ) -> LaneLightSample<R, S> {
     let (pdf, defined) = pdf;
@@ -55,7 +56,7 @@ pub(super) fn sample_at<R: Real, S: Spectrum<R>>(
     let emits = emits_towards(normal, -wi, two_sided);
     LaneLightSample {
         wi,
-        li: S::select(emits, radiance, S::splat(0.0)),
+        li: penumbra_core::choose_lanes!(R, emits, radiance(), S::splat(0.0)),
         dist,
         pdf,
         ok: R::and(defined, sane),
