@@ -36,9 +36,9 @@ pub(super) struct BsdfAnswer {
 /// The BSDF kinds answered in lanes, one line each (bucket, `BsdfKind` variant): generates
 /// [`Buckets`] and its [`Buckets::answer`]. A kind with a lane kernel joins by one line here.
 /// Blends of two one-sided parts of the kinds before the `;` are answered in lanes too,
-/// bucketed by the pair of kinds, as the mixture of the two kernels ([`MixtureLanes`]);
-/// the kinds after it are answered in lanes only alone, and in the portable lanes at every
-/// SIMD level (see [`portable_kernel`]).
+/// bucketed by the pair of kinds, as the mixture of the two kernels ([`MixtureLanes`]), in
+/// the portable lanes at every SIMD level; the kinds after it are answered in lanes only
+/// alone, also in the portable lanes (see [`portable_kernel`]).
 macro_rules! lane_kinds {
     ($($bucket:ident: $variant:ident),* ; $($alone:ident: $alone_variant:ident),* $(,)?) => {
         /// The buckets of one depth's shading points, by index, kept between depths.
@@ -110,7 +110,7 @@ macro_rules! lane_kinds {
     (@row $self:ident, $shs:ident, $q:ident, $out:ident, $mode:ident, $pair:ident, $a:ident, [$($b:ident)*]) => {
         $(
             for group in $self.blends[$pair].chunks(8) {
-                answer_lanes(group, $shs, $q, $out, run_kernel, |k| match k {
+                answer_lanes(group, $shs, $q, $out, portable_kernel, |k| match k {
                     BsdfKind::Blend(blend) => match (blend.a.bsdf(blend.uv).kind, blend.b.bsdf(blend.uv).kind) {
                         (BsdfKind::$a(x), BsdfKind::$b(y)) => MixtureLanes {
                             a: x.lanes($mode),
@@ -273,8 +273,10 @@ fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
 }
 
 /// [`kernel`] in the portable lanes ([`F8`]: SSE halves) whatever the CPU's level, for
-/// kinds too large to compile three times: the layered BSDF's walk at the AVX levels cost
-/// the test build minutes and most of a gigabyte (docs/performance.md).
+/// kernels too large or too many to compile three times: the layered BSDF's walk at the
+/// AVX levels cost the test build minutes and most of a gigabyte, and the 25 pairs of
+/// blended kinds at three levels took 397 of the 503 s LLVM spent optimising this crate's
+/// functions (`-Z llvm-time-trace`; docs/performance.md).
 fn portable_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
     kernel::<G, F8>(one, c)
 }
