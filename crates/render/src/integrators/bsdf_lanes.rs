@@ -37,8 +37,8 @@ pub(super) struct BsdfAnswer {
 /// [`Buckets`] and its [`Buckets::answer`]. A kind with a lane kernel joins by one line here.
 /// Blends of two one-sided parts of the kinds before the `;` are answered in lanes too,
 /// bucketed by the pair of kinds, as the mixture of the two kernels ([`MixtureLanes`]), in
-/// the portable lanes at every SIMD level; the kinds after it are answered in lanes only
-/// alone, also in the portable lanes (see [`portable_kernel`]).
+/// AVX2 lanes only; the kinds after it are answered in lanes only alone, also in AVX2
+/// lanes only (see [`avx2_kernel`]; one at a time on CPUs without AVX2).
 macro_rules! lane_kinds {
     ($($bucket:ident: $variant:ident),* ; $($alone:ident: $alone_variant:ident),* $(,)?) => {
         /// The buckets of one depth's shading points, by index, kept between depths.
@@ -86,7 +86,7 @@ macro_rules! lane_kinds {
                 }
                 let mode = TransportMode::Radiance;
                 $( lane_kinds!(@kind self.$bucket, shs, queries, out, mode, $variant, run_kernel); )*
-                $( lane_kinds!(@kind self.$alone, shs, queries, out, mode, $alone_variant, portable_kernel); )*
+                $( lane_kinds!(@kind self.$alone, shs, queries, out, mode, $alone_variant, avx2_kernel); )*
                 lane_kinds!(@blends self, shs, queries, out, mode, [$($variant)*], [$($variant)*]);
             }
         }
@@ -110,7 +110,7 @@ macro_rules! lane_kinds {
     (@row $self:ident, $shs:ident, $q:ident, $out:ident, $mode:ident, $pair:ident, $a:ident, [$($b:ident)*]) => {
         $(
             for group in $self.blends[$pair].chunks(8) {
-                answer_lanes(group, $shs, $q, $out, portable_kernel, |k| match k {
+                answer_lanes(group, $shs, $q, $out, avx2_kernel, |k| match k {
                     BsdfKind::Blend(blend) => match (blend.a.bsdf(blend.uv).kind, blend.b.bsdf(blend.uv).kind) {
                         (BsdfKind::$a(x), BsdfKind::$b(y)) => MixtureLanes {
                             a: x.lanes($mode),
@@ -176,14 +176,15 @@ struct Results {
 }
 
 /// The points `group` (up to eight) of one kind, whose one-lane kernels `kernel` gives,
-/// answered in lanes by `run` ([`run_kernel`] or [`portable_kernel`]); lanes past the
+/// answered in lanes by `run` ([`run_kernel`] or [`avx2_kernel`]; where it runs none, one
+/// at a time by their scalar BSDFs, the same floats); lanes past the
 /// group's end repeat its last point and are dropped.
 fn answer_lanes<'s, G: Gather>(
     group: &[usize],
     shs: &[Shading<'s>],
     queries: &[BsdfQuery],
     out: &mut [BsdfAnswer],
-    run: fn(&[G; 8], &Columns) -> Results,
+    run: fn(&[G; 8], &Columns) -> Option<Results>,
     kernel: impl Fn(&BsdfKind<'s>) -> G,
 ) {
     let n = group.len();
@@ -210,7 +211,12 @@ fn answer_lanes<'s, G: Gather>(
         c.u_lobe[j] = q.u_lobe;
         (c.u[0][j], c.u[1][j]) = (q.u.x, q.u.y);
     }
-    let r = run(&one, &c);
+    let Some(r) = run(&one, &c) else {
+        for &i in group {
+            out[i] = answer_one(&shs[i], &queries[i]);
+        }
+        return;
+    };
     let v3 = |a: &[[f32; 8]; 3], j: usize| Vec3::new(a[0][j], a[1][j], a[2][j]);
     for (j, &i) in group.iter().enumerate() {
         let (lit, need_pdf) = queries[i].light.map_or((false, false), |(_, need)| (true, need));
@@ -261,7 +267,7 @@ fn kernel<G: Gather, L: Lane8>(one: &[G; 8], c: &Columns) -> Results {
 
 /// [`kernel`] at the SIMD level the CPU runs ([`penumbra_core::simd::level`]); the same floats at every
 /// level.
-fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
+fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Option<Results> {
     #[cfg(target_arch = "x86_64")]
     penumbra_core::level_fns! {
         /// The kernel compiled for AVX2 and for AVX-512, in `F8Avx` lanes.
@@ -269,16 +275,23 @@ fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
             kernel::<G, F8Avx>(one, c)
         }
     }
-    penumbra_core::at_level!(avx512: avx512(one, c), avx2: avx2(one, c), portable: kernel::<G, F8>(one, c))
+    Some(penumbra_core::at_level!(avx512: avx512(one, c), avx2: avx2(one, c), portable: kernel::<G, F8>(one, c)))
 }
 
-/// [`kernel`] in the portable lanes ([`F8`]: SSE halves) whatever the CPU's level, for
-/// kernels too large or too many to compile three times: the layered BSDF's walk at the
-/// AVX levels cost the test build minutes and most of a gigabyte, and the 25 pairs of
-/// blended kinds at three levels took 397 of the 503 s LLVM spent optimising this crate's
-/// functions (`-Z llvm-time-trace`; docs/performance.md).
-fn portable_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
-    kernel::<G, F8>(one, c)
+/// [`kernel`] in AVX2 lanes ([`F8Avx`]) where the CPU has them (AVX-512 CPUs too), `None`
+/// elsewhere, for kernels too large or too many to compile at every level: the layered
+/// BSDF's walk and the 25 pairs of blended kinds. At three levels the pairs took 397 of
+/// the 503 s LLVM spent optimising this crate's functions (`-Z llvm-time-trace`), and in
+/// the portable lanes alone still 254 s: two SSE halves per operation make four times the
+/// IR of one AVX2 operation (docs/performance.md).
+fn avx2_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Option<Results> {
+    /// The kernel compiled for AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn avx2<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
+        kernel::<G, F8Avx>(one, c)
+    }
+    penumbra_core::at_level!(avx512: Some(avx2(one, c)), avx2: Some(avx2(one, c)), portable: None)
 }
 
 #[cfg(test)]
