@@ -85,14 +85,14 @@ macro_rules! lane_kinds {
                     }
                 }
                 let mode = TransportMode::Radiance;
-                $( lane_kinds!(@kind self.$bucket, shs, queries, out, mode, $variant, run_kernel); )*
-                $( lane_kinds!(@kind self.$alone, shs, queries, out, mode, $alone_variant, avx2_kernel); )*
+                $( lane_kinds!(@kind self.$bucket, shs, queries, out, mode, $variant, Some(run_kernel)); )*
+                $( lane_kinds!(@kind self.$alone, shs, queries, out, mode, $alone_variant, avx2_kernel()); )*
                 lane_kinds!(@blends self, shs, queries, out, mode, [$($variant)*], [$($variant)*]);
             }
         }
     };
     // One kind's bucket answered by its kernel, run by `$run`.
-    (@kind $bucket:expr, $shs:ident, $q:ident, $out:ident, $mode:ident, $variant:ident, $run:ident) => {
+    (@kind $bucket:expr, $shs:ident, $q:ident, $out:ident, $mode:ident, $variant:ident, $run:expr) => {
         for group in $bucket.chunks(8) {
             answer_lanes(group, $shs, $q, $out, $run, |b| match b {
                 BsdfKind::$variant(k) => k.lanes($mode),
@@ -110,7 +110,7 @@ macro_rules! lane_kinds {
     (@row $self:ident, $shs:ident, $q:ident, $out:ident, $mode:ident, $pair:ident, $a:ident, [$($b:ident)*]) => {
         $(
             for group in $self.blends[$pair].chunks(8) {
-                answer_lanes(group, $shs, $q, $out, avx2_kernel, |k| match k {
+                answer_lanes(group, $shs, $q, $out, avx2_kernel(), |k| match k {
                     BsdfKind::Blend(blend) => match (blend.a.bsdf(blend.uv).kind, blend.b.bsdf(blend.uv).kind) {
                         (BsdfKind::$a(x), BsdfKind::$b(y)) => MixtureLanes {
                             a: x.lanes($mode),
@@ -176,17 +176,23 @@ struct Results {
 }
 
 /// The points `group` (up to eight) of one kind, whose one-lane kernels `kernel` gives,
-/// answered in lanes by `run` ([`run_kernel`] or [`avx2_kernel`]; where it runs none, one
-/// at a time by their scalar BSDFs, the same floats); lanes past the
+/// answered in lanes by `run` ([`run_kernel`], or [`avx2_kernel`]'s; without one, one at a
+/// time by their scalar BSDFs, the same floats); lanes past the
 /// group's end repeat its last point and are dropped.
 fn answer_lanes<'s, G: Gather>(
     group: &[usize],
     shs: &[Shading<'s>],
     queries: &[BsdfQuery],
     out: &mut [BsdfAnswer],
-    run: fn(&[G; 8], &Columns) -> Option<Results>,
+    run: Option<fn(&[G; 8], &Columns) -> Results>,
     kernel: impl Fn(&BsdfKind<'s>) -> G,
 ) {
+    let Some(run) = run else {
+        for &i in group {
+            out[i] = answer_one(&shs[i], &queries[i]);
+        }
+        return;
+    };
     let n = group.len();
     let at = |j: usize| group[j.min(n - 1)];
     // Two-sided BSDFs seen from behind work on mirrored directions (`Bsdf`'s rule).
@@ -211,12 +217,7 @@ fn answer_lanes<'s, G: Gather>(
         c.u_lobe[j] = q.u_lobe;
         (c.u[0][j], c.u[1][j]) = (q.u.x, q.u.y);
     }
-    let Some(r) = run(&one, &c) else {
-        for &i in group {
-            out[i] = answer_one(&shs[i], &queries[i]);
-        }
-        return;
-    };
+    let r = run(&one, &c);
     let v3 = |a: &[[f32; 8]; 3], j: usize| Vec3::new(a[0][j], a[1][j], a[2][j]);
     for (j, &i) in group.iter().enumerate() {
         let (lit, need_pdf) = queries[i].light.map_or((false, false), |(_, need)| (true, need));
@@ -267,7 +268,7 @@ fn kernel<G: Gather, L: Lane8>(one: &[G; 8], c: &Columns) -> Results {
 
 /// [`kernel`] at the SIMD level the CPU runs ([`penumbra_core::simd::level`]); the same floats at every
 /// level.
-fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Option<Results> {
+fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
     #[cfg(target_arch = "x86_64")]
     penumbra_core::level_fns! {
         /// The kernel compiled for AVX2 and for AVX-512, in `F8Avx` lanes.
@@ -275,7 +276,7 @@ fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Option<Results> {
             kernel::<G, F8Avx>(one, c)
         }
     }
-    Some(penumbra_core::at_level!(avx512: avx512(one, c), avx2: avx2(one, c), portable: kernel::<G, F8>(one, c)))
+    penumbra_core::at_level!(avx512: avx512(one, c), avx2: avx2(one, c), portable: kernel::<G, F8>(one, c))
 }
 
 /// [`kernel`] in AVX2 lanes ([`F8Avx`]) where the CPU has them (AVX-512 CPUs too), `None`
@@ -284,14 +285,23 @@ fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Option<Results> {
 /// the 503 s LLVM spent optimising this crate's functions (`-Z llvm-time-trace`), and in
 /// the portable lanes alone still 254 s: two SSE halves per operation make four times the
 /// IR of one AVX2 operation (docs/performance.md).
-fn avx2_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Option<Results> {
+fn avx2_kernel<G: Gather>() -> Option<fn(&[G; 8], &Columns) -> Results> {
     /// The kernel compiled for AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn avx2<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
         kernel::<G, F8Avx>(one, c)
     }
-    penumbra_core::at_level!(avx512: Some(avx2(one, c)), avx2: Some(avx2(one, c)), portable: None)
+    /// [`avx2`], handed out only where the CPU runs AVX2.
+    #[cfg(target_arch = "x86_64")]
+    fn checked<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
+        // SAFETY: `avx2_kernel` returns this function only at the AVX2 and AVX-512
+        // levels, which are chosen only where the CPU runs AVX2.
+        unsafe { avx2(one, c) }
+    }
+    #[cfg(target_arch = "x86_64")]
+    type Run<G> = fn(&[G; 8], &Columns) -> Results;
+    penumbra_core::at_level!(avx512: Some(checked::<G> as Run<G>), avx2: Some(checked::<G> as Run<G>), portable: None)
 }
 
 #[cfg(test)]
