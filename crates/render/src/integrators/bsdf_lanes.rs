@@ -3,17 +3,19 @@
 //! Points are bucketed by BSDF kind (as wavefront renderers sort hits by material: Laine,
 //! Karras and Aila 2013); each kind with a lane kernel ([`Gather`], [`LaneKernel`]) answers
 //! eight points per pass of eight-lane instructions at the CPU's SIMD level, the other
-//! kinds one point at a time. A lane gives the bits its kind's scalar BSDF gives (the
-//! scalar BSDF is the kernel's one-lane instance), so the image does not depend on the
-//! bucketing.
+//! kinds one point at a time; blends through their parts' kinds ([`blends`]). A lane gives
+//! the bits its kind's scalar BSDF gives (the scalar BSDF is the kernel's one-lane
+//! instance), so the image does not depend on the bucketing.
 
 use super::nee::Shading;
-use crate::bsdfs::{flip, Bsdf, BsdfKind, BsdfSample, Gather, LaneKernel, MixtureLanes, TransportMode};
+use crate::bsdfs::{flip, BsdfKind, BsdfSample, Gather, LaneKernel, TransportMode};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, F8, V3};
 #[cfg(target_arch = "x86_64")]
 use penumbra_core::lanes_avx::F8Avx;
 use penumbra_core::Rgb;
+
+mod blends;
 
 /// What one shading point asks of its BSDF (radiance mode), in the shading frame, beside
 /// the point's own view direction.
@@ -21,6 +23,9 @@ use penumbra_core::Rgb;
 pub(super) struct BsdfQuery {
     /// The direction to a light sample, if one waits, and whether its density is needed.
     pub light: Option<(Vec3, bool)>,
+    /// Whether a sample (a continuation) is wanted: a blend's part may be asked for its
+    /// value and density alone.
+    pub sample: bool,
     pub u_lobe: f32,
     pub u: Vec2,
 }
@@ -35,10 +40,8 @@ pub(super) struct BsdfAnswer {
 
 /// The BSDF kinds answered in lanes, one line each (bucket, `BsdfKind` variant): generates
 /// [`Buckets`] and its [`Buckets::answer`]. A kind with a lane kernel joins by one line here.
-/// Blends of two one-sided parts of the kinds before the `;` are answered in lanes too,
-/// bucketed by the pair of kinds, as the mixture of the two kernels ([`MixtureLanes`]), in
-/// AVX2 lanes only; the kinds after it are answered in lanes only alone, also in AVX2
-/// lanes only (see [`avx2_kernel`]; one at a time on CPUs without AVX2).
+/// The kinds after the `;` run in AVX2 lanes only (see [`avx2_kernel`]; one at a time on
+/// CPUs without AVX2). Blends are answered through their parts' kinds ([`blends`]).
 macro_rules! lane_kinds {
     ($($bucket:ident: $variant:ident),* ; $($alone:ident: $alone_variant:ident),* $(,)?) => {
         /// The buckets of one depth's shading points, by index, kept between depths.
@@ -46,19 +49,10 @@ macro_rules! lane_kinds {
         pub(super) struct Buckets {
             $($bucket: Vec<usize>,)*
             $($alone: Vec<usize>,)*
-            /// Blends, by the pair of their parts' kinds (in registry order).
-            blends: [Vec<usize>; KINDS * KINDS],
-        }
-
-        /// How many kinds have a lane kernel.
-        const KINDS: usize = [$(stringify!($variant)),*].len();
-
-        /// The lane kind of a one-sided part, by its place in the list above.
-        fn lane_kind(part: &Bsdf) -> Option<usize> {
-            if part.two_sided {
-                return None;
-            }
-            [$(matches!(part.kind, BsdfKind::$variant(_))),*].iter().position(|&m| m)
+            /// The blends, answered through their parts.
+            blends: Vec<usize>,
+            /// The buckets of the blends' parts (made at the first blend).
+            parts: Option<Box<Buckets>>,
         }
 
         impl Buckets {
@@ -66,18 +60,12 @@ macro_rules! lane_kinds {
             pub fn answer<'s>(&mut self, shs: &[Shading<'s>], queries: &[BsdfQuery], out: &mut [BsdfAnswer]) {
                 $(self.$bucket.clear();)*
                 $(self.$alone.clear();)*
-                self.blends.iter_mut().for_each(Vec::clear);
+                self.blends.clear();
                 for (i, (sh, q)) in shs.iter().zip(queries).enumerate() {
                     match sh.bsdf.kind {
                         $(BsdfKind::$variant(_) => self.$bucket.push(i),)*
                         $(BsdfKind::$alone_variant(_) => self.$alone.push(i),)*
-                        BsdfKind::Blend(b) => {
-                            let (a, c) = (b.a.bsdf(b.uv), b.b.bsdf(b.uv));
-                            match (lane_kind(&a), lane_kind(&c)) {
-                                (Some(ka), Some(kc)) => self.blends[ka * KINDS + kc].push(i),
-                                _ => out[i] = answer_one(sh, q),
-                            }
-                        }
+                        BsdfKind::Blend(_) => self.blends.push(i),
                         // Kinds not listed go one at a time (none today: every kind
                         // has a lane kernel).
                         #[allow(unreachable_patterns)]
@@ -87,43 +75,21 @@ macro_rules! lane_kinds {
                 let mode = TransportMode::Radiance;
                 $( lane_kinds!(@kind self.$bucket, shs, queries, out, mode, $variant, Some(run_kernel)); )*
                 $( lane_kinds!(@kind self.$alone, shs, queries, out, mode, $alone_variant, avx2_kernel()); )*
-                lane_kinds!(@blends self, shs, queries, out, mode, [$($variant)*], [$($variant)*]);
+                if !self.blends.is_empty() {
+                    let parts = self.parts.get_or_insert_with(Default::default);
+                    blends::answer_blends(&self.blends, parts, shs, queries, out);
+                }
             }
         }
     };
     // One kind's bucket answered by its kernel, run by `$run`.
     (@kind $bucket:expr, $shs:ident, $q:ident, $out:ident, $mode:ident, $variant:ident, $run:expr) => {
         for group in $bucket.chunks(8) {
-            answer_lanes(group, $shs, $q, $out, $run, |b| match b {
+            answer_lanes(group, $shs, $q, $out, $run, |p| match $shs[group[p]].bsdf.kind {
                 BsdfKind::$variant(k) => k.lanes($mode),
                 _ => unreachable!("a bucket holds one kind"),
             });
         }
-    };
-    // Each pair (A, B) of kinds: its blends' bucket answered by the mixture of A's and B's
-    // kernels.
-    (@blends $self:ident, $shs:ident, $q:ident, $out:ident, $mode:ident, [$($a:ident)*], $bs:tt) => {
-        let mut pair = 0;
-        $( lane_kinds!(@row $self, $shs, $q, $out, $mode, pair, $a, $bs); )*
-        let _ = pair;
-    };
-    (@row $self:ident, $shs:ident, $q:ident, $out:ident, $mode:ident, $pair:ident, $a:ident, [$($b:ident)*]) => {
-        $(
-            for group in $self.blends[$pair].chunks(8) {
-                answer_lanes(group, $shs, $q, $out, avx2_kernel(), |k| match k {
-                    BsdfKind::Blend(blend) => match (blend.a.bsdf(blend.uv).kind, blend.b.bsdf(blend.uv).kind) {
-                        (BsdfKind::$a(x), BsdfKind::$b(y)) => MixtureLanes {
-                            a: x.lanes($mode),
-                            b: y.lanes($mode),
-                            weight: blend.weight,
-                        },
-                        _ => unreachable!("a bucket holds one pair of kinds"),
-                    },
-                    _ => unreachable!("a bucket holds blends"),
-                });
-            }
-            $pair += 1;
-        )*
     };
 }
 
@@ -133,8 +99,6 @@ lane_kinds! {
     dielectric: Dielectric,
     plastic: Plastic,
     phong: Phong;
-    // The layered BSDF alone, not in blends: its random walk inlined into every pair of
-    // kinds at three SIMD levels took the build to 24 GB.
     layered: Layered,
 }
 
@@ -151,7 +115,11 @@ fn answer_one(sh: &Shading, q: &BsdfQuery) -> BsdfAnswer {
     BsdfAnswer {
         f,
         pdf,
-        sample: bsdf.sample(wo, q.u_lobe, q.u, mode),
+        sample: if q.sample {
+            bsdf.sample(wo, q.u_lobe, q.u, mode)
+        } else {
+            None
+        },
     }
 }
 
@@ -161,6 +129,8 @@ struct Columns {
     l: [[f32; 8]; 3],
     u_lobe: [f32; 8],
     u: [[f32; 8]; 2],
+    /// Whether any lane wants a sample.
+    sample: bool,
 }
 
 /// What eight lanes answered, in columns.
@@ -175,17 +145,17 @@ struct Results {
     ok: u32,
 }
 
-/// The points `group` (up to eight) of one kind, whose one-lane kernels `kernel` gives,
-/// answered in lanes by `run` ([`run_kernel`], or [`avx2_kernel`]'s; without one, one at a
-/// time by their scalar BSDFs, the same floats); lanes past the
-/// group's end repeat its last point and are dropped.
+/// The points `group` (up to eight) of one kind, whose one-lane kernels `kernel` gives
+/// (by place in the group), answered in lanes by `run` ([`run_kernel`], or
+/// [`avx2_kernel`]'s; without one, one at a time by their scalar BSDFs, the same floats);
+/// lanes past the group's end repeat its last point and are dropped.
 fn answer_lanes<'s, G: Gather>(
     group: &[usize],
     shs: &[Shading<'s>],
     queries: &[BsdfQuery],
     out: &mut [BsdfAnswer],
     run: Option<fn(&[G; 8], &Columns) -> Results>,
-    kernel: impl Fn(&BsdfKind<'s>) -> G,
+    kernel: impl Fn(usize) -> G,
 ) {
     let Some(run) = run else {
         for &i in group {
@@ -201,12 +171,13 @@ fn answer_lanes<'s, G: Gather>(
         sh.bsdf.mirrored(sh.wo)
     });
     let side = |j: usize, w: Vec3| if mirrored[j] { flip(w) } else { w };
-    let one: [G; 8] = std::array::from_fn(|j| kernel(&shs[at(j)].bsdf.kind));
+    let one: [G; 8] = std::array::from_fn(|j| kernel(j.min(n - 1)));
     let mut c = Columns {
         wo: [[0.0; 8]; 3],
         l: [[0.0; 8]; 3],
         u_lobe: [0.0; 8],
         u: [[0.0; 8]; 2],
+        sample: group.iter().any(|&i| queries[i].sample),
     };
     for j in 0..8 {
         let q = &queries[at(j)];
@@ -222,7 +193,7 @@ fn answer_lanes<'s, G: Gather>(
     for (j, &i) in group.iter().enumerate() {
         let (lit, need_pdf) = queries[i].light.map_or((false, false), |(_, need)| (true, need));
         let f = v3(&r.f, j);
-        let sample = (r.ok >> j & 1 != 0)
+        let sample = (queries[i].sample && r.ok >> j & 1 != 0)
             .then(|| BsdfSample {
                 wi: side(j, v3(&r.wi, j)),
                 weight: Rgb::new(r.weight[0][j], r.weight[1][j], r.weight[2][j]),
@@ -248,22 +219,27 @@ fn kernel<G: Gather, L: Lane8>(one: &[G; 8], c: &Columns) -> Results {
     let (wo, l) = (v3(&c.wo), v3(&c.l));
     let f = k.eval(wo, l);
     let pdf = k.pdf(wo, l);
-    let s = k.sample(
-        wo,
-        L::from_array(c.u_lobe),
-        (L::from_array(c.u[0]), L::from_array(c.u[1])),
-    );
     let columns = |v: V3<L>| [v.x.to_array(), v.y.to_array(), v.z.to_array()];
-    Results {
+    let mut r = Results {
         f: columns(f),
         pdf: pdf.to_array(),
-        wi: columns(s.wi),
-        weight: columns(s.weight),
-        sample_pdf: s.pdf.to_array(),
-        eta: s.eta.to_array(),
-        delta: L::bits(s.delta),
-        ok: L::bits(s.ok),
+        wi: [[0.0; 8]; 3],
+        weight: [[0.0; 8]; 3],
+        sample_pdf: [0.0; 8],
+        eta: [1.0; 8],
+        delta: 0,
+        ok: 0,
+    };
+    if c.sample {
+        let s = k.sample(
+            wo,
+            L::from_array(c.u_lobe),
+            (L::from_array(c.u[0]), L::from_array(c.u[1])),
+        );
+        (r.wi, r.weight, r.sample_pdf) = (columns(s.wi), columns(s.weight), s.pdf.to_array());
+        (r.eta, r.delta, r.ok) = (s.eta.to_array(), L::bits(s.delta), L::bits(s.ok));
     }
+    r
 }
 
 /// [`kernel`] at the SIMD level the CPU runs ([`penumbra_core::simd::level`]); the same floats at every
@@ -280,11 +256,10 @@ fn run_kernel<G: Gather>(one: &[G; 8], c: &Columns) -> Results {
 }
 
 /// [`kernel`] in AVX2 lanes ([`F8Avx`]) where the CPU has them (AVX-512 CPUs too), `None`
-/// elsewhere, for kernels too large or too many to compile at every level: the layered
-/// BSDF's walk and the 25 pairs of blended kinds. At three levels the pairs took 397 of
-/// the 503 s LLVM spent optimising this crate's functions (`-Z llvm-time-trace`), and in
-/// the portable lanes alone still 254 s: two SSE halves per operation make four times the
-/// IR of one AVX2 operation (docs/performance.md).
+/// elsewhere, for kernels too large to compile at every level: the layered BSDF's walk
+/// (77 s of LLVM's time on this crate at three levels, `-Z llvm-time-trace`; two SSE
+/// halves per operation make about four times the IR of one AVX2 operation,
+/// docs/performance.md).
 fn avx2_kernel<G: Gather>() -> Option<fn(&[G; 8], &Columns) -> Results> {
     /// The kernel compiled for AVX2.
     #[cfg(target_arch = "x86_64")]
@@ -312,6 +287,7 @@ mod tests {
         Coated, CoatedBase, ConductorMaterial, DielectricMaterial, DiffuseMaterial, Phong, Roughness,
     };
     use crate::{Interaction, Material, Texture};
+    use penumbra_core::simd::{self, Level};
     use penumbra_core::Pcg32;
     use penumbra_geometry::SurfaceHit;
 
@@ -348,10 +324,11 @@ mod tests {
     }
 
     /// Shading points of blends of every pair of lane kinds (smooth and rough parts,
-    /// weights 0 and 1 among them, some blends two-sided, some with a two-sided part, which
-    /// stays scalar), coated materials alone (in lanes) and in blends (one at a time), seen
-    /// from both sides and mixed with plain kinds in one depth: the
-    /// buckets' answers in lanes are, point by point, the bits of each point's scalar BSDF.
+    /// weights 0 and 1 among them, some blends two-sided, some with a two-sided part),
+    /// coated materials alone and in blends, blends of blends (three deep, and one of eight
+    /// dielectrics), seen from both sides and mixed with plain kinds in one depth: at every
+    /// SIMD level the CPU runs, the buckets' answers in lanes are, point by point, the bits
+    /// of each point's scalar BSDF.
     #[test]
     fn blends_answered_in_lanes_give_the_scalar_answers() {
         let mut rng = Pcg32::new(21, 7);
@@ -419,6 +396,47 @@ mod tests {
                 coated
             });
         }
+        // Blends of blends: a blend of a blend of a blend, and one of eight dielectrics of
+        // different indices, as a Mitsuba scene nests them.
+        for i in 0..30 {
+            let leaf = |rng: &mut Pcg32, k: usize| parts(rng, k);
+            let w = |rng: &mut Pcg32| Texture::Constant(Rgb::splat(rng.next_f32()));
+            let deep = Material::Blend {
+                a: Box::new(Material::Blend {
+                    a: Box::new(leaf(&mut rng, i)),
+                    b: Box::new(Material::Blend {
+                        a: Box::new(leaf(&mut rng, i + 3)),
+                        b: Box::new(leaf(&mut rng, i + 7)),
+                        weight: w(&mut rng),
+                    }),
+                    weight: w(&mut rng),
+                }),
+                b: Box::new(leaf(&mut rng, i + 1)),
+                weight: w(&mut rng),
+            };
+            let mut glasses: Vec<Material> = (0..8)
+                .map(|k| {
+                    Material::Dielectric(DielectricMaterial {
+                        eta: 1.1 + 0.1 * k as f32,
+                        roughness: (i % 2 == 1).then(|| Roughness::isotropic(0.2)),
+                        ..DielectricMaterial::default()
+                    })
+                })
+                .collect();
+            while glasses.len() > 1 {
+                let b = glasses.pop().unwrap();
+                let a = glasses.pop().unwrap();
+                glasses.insert(
+                    0,
+                    Material::Blend {
+                        a: Box::new(a),
+                        b: Box::new(b),
+                        weight: w(&mut rng),
+                    },
+                );
+            }
+            materials.push(if i % 2 == 0 { deep } else { glasses.pop().unwrap() });
+        }
         let its: Vec<Interaction> = materials
             .iter()
             .map(|material| {
@@ -446,18 +464,31 @@ mod tests {
                 let l = penumbra_core::warp::uniform_sphere(Vec2::new(rng.next_f32(), rng.next_f32()));
                 BsdfQuery {
                     light: (rng.next_below(4) != 0).then_some((l, rng.next_below(2) == 0)),
+                    sample: rng.next_below(8) != 0,
                     u_lobe: rng.next_f32(),
                     u: Vec2::new(rng.next_f32(), rng.next_f32()),
                 }
             })
             .collect();
-        let mut out = vec![BsdfAnswer::default(); shs.len()];
-        Buckets::default().answer(&shs, &queries, &mut out);
+        let levels: Vec<Level> = Level::ALL.into_iter().filter(|l| l.supported()).collect();
+        for &level in &levels {
+            simd::set_level(level).unwrap();
+            let mut out = vec![BsdfAnswer::default(); shs.len()];
+            Buckets::default().answer(&shs, &queries, &mut out);
+            let samples = compare(&shs, &queries, &out, level);
+            assert!(samples > 40, "only {samples} samples");
+        }
+        simd::set_level(Level::best()).unwrap();
+        println!("compared at {levels:?}");
+    }
+
+    /// Asserts that `out` holds each point's scalar answers, bit for bit; how many samples.
+    fn compare(shs: &[Shading], queries: &[BsdfQuery], out: &[BsdfAnswer], level: Level) -> usize {
         let bits = |c: Rgb| [c.r, c.g, c.b].map(f32::to_bits);
         let mut samples = 0;
-        for (i, (sh, q)) in shs.iter().zip(&queries).enumerate() {
+        for (i, (sh, q)) in shs.iter().zip(queries).enumerate() {
             let one = answer_one(sh, q);
-            assert_eq!(bits(out[i].f), bits(one.f), "value, point {i}");
+            assert_eq!(bits(out[i].f), bits(one.f), "value, point {i} at {level}");
             assert_eq!(out[i].pdf.to_bits(), one.pdf.to_bits(), "density, point {i}");
             assert_eq!(
                 out[i].sample.is_some(),
@@ -479,6 +510,6 @@ mod tests {
                 );
             }
         }
-        assert!(samples > 40, "only {samples} samples");
+        samples
     }
 }

@@ -326,7 +326,12 @@ impl PathTracer {
                 });
                 picks.push(pick.flatten());
                 let (u_lobe, u) = (sampler.next_1d(), sampler.next_2d());
-                queries.push(BsdfQuery { light: None, u_lobe, u });
+                queries.push(BsdfQuery {
+                    light: None,
+                    sample: true,
+                    u_lobe,
+                    u,
+                });
             }
             sample_lights(scene, &requests, nee.sampling, &mut light_samples, &mut one_by_one);
             points.clear();
