@@ -8,7 +8,7 @@
 //! instance), so the image does not depend on the bucketing.
 
 use super::nee::Shading;
-use crate::bsdfs::{flip, BsdfKind, BsdfSample, Gather, LaneKernel, TransportMode};
+use crate::bsdfs::{flip, Bsdf, BsdfKind, BsdfSample, Gather, LaneKernel, TransportMode};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, F8, V3};
 #[cfg(target_arch = "x86_64")]
@@ -57,12 +57,12 @@ macro_rules! lane_kinds {
 
         impl Buckets {
             /// Answers `queries[i]` of shading point `shs[i]` into `out[i]`.
-            pub fn answer<'s>(&mut self, shs: &[Shading<'s>], queries: &[BsdfQuery], out: &mut [BsdfAnswer]) {
+            pub fn answer<'s, P: BsdfPoint<'s>>(&mut self, shs: &[P], queries: &[BsdfQuery], out: &mut [BsdfAnswer]) {
                 $(self.$bucket.clear();)*
                 $(self.$alone.clear();)*
                 self.blends.clear();
                 for (i, (sh, q)) in shs.iter().zip(queries).enumerate() {
-                    match sh.bsdf.kind {
+                    match sh.bsdf().kind {
                         $(BsdfKind::$variant(_) => self.$bucket.push(i),)*
                         $(BsdfKind::$alone_variant(_) => self.$alone.push(i),)*
                         BsdfKind::Blend(_) => self.blends.push(i),
@@ -85,7 +85,7 @@ macro_rules! lane_kinds {
     // One kind's bucket answered by its kernel, run by `$run`.
     (@kind $bucket:expr, $shs:ident, $q:ident, $out:ident, $mode:ident, $variant:ident, $run:expr) => {
         for group in $bucket.chunks(8) {
-            answer_lanes(group, $shs, $q, $out, $run, |p| match $shs[group[p]].bsdf.kind {
+            answer_lanes(group, $shs, $q, $out, $run, |p| match $shs[group[p]].bsdf().kind {
                 BsdfKind::$variant(k) => k.lanes($mode),
                 _ => unreachable!("a bucket holds one kind"),
             });
@@ -102,9 +102,27 @@ lane_kinds! {
     layered: Layered,
 }
 
+/// What the BSDF stage needs of a point: its BSDF and the direction towards the viewer in
+/// its shading frame (a shading point, or a blend's part, [`blends::Part`]).
+pub(super) trait BsdfPoint<'s> {
+    fn bsdf(&self) -> &Bsdf<'s>;
+    fn wo(&self) -> Vec3;
+}
+
+impl<'s> BsdfPoint<'s> for Shading<'s> {
+    #[inline(always)]
+    fn bsdf(&self) -> &Bsdf<'s> {
+        &self.bsdf
+    }
+    #[inline(always)]
+    fn wo(&self) -> Vec3 {
+        self.wo
+    }
+}
+
 /// One point's answers from its scalar BSDF.
-fn answer_one(sh: &Shading, q: &BsdfQuery) -> BsdfAnswer {
-    let (bsdf, wo, mode) = (&sh.bsdf, sh.wo, TransportMode::Radiance);
+fn answer_one<'s>(sh: &impl BsdfPoint<'s>, q: &BsdfQuery) -> BsdfAnswer {
+    let (bsdf, wo, mode) = (sh.bsdf(), sh.wo(), TransportMode::Radiance);
     let (f, pdf) = match q.light {
         Some((l, need_pdf)) => (
             bsdf.eval(wo, l, mode),
@@ -151,7 +169,7 @@ struct Results {
 /// lanes past the group's end repeat its last point and are dropped.
 fn answer_lanes<'s, G: Gather>(
     group: &[usize],
-    shs: &[Shading<'s>],
+    shs: &[impl BsdfPoint<'s>],
     queries: &[BsdfQuery],
     out: &mut [BsdfAnswer],
     run: Option<fn(&[G; 8], &Columns) -> Results>,
@@ -168,7 +186,7 @@ fn answer_lanes<'s, G: Gather>(
     // Two-sided BSDFs seen from behind work on mirrored directions (`Bsdf`'s rule).
     let mirrored: [bool; 8] = std::array::from_fn(|j| {
         let sh = &shs[at(j)];
-        sh.bsdf.mirrored(sh.wo)
+        sh.bsdf().mirrored(sh.wo())
     });
     let side = |j: usize, w: Vec3| if mirrored[j] { flip(w) } else { w };
     let one: [G; 8] = std::array::from_fn(|j| kernel(j.min(n - 1)));
@@ -181,7 +199,7 @@ fn answer_lanes<'s, G: Gather>(
     };
     for j in 0..8 {
         let q = &queries[at(j)];
-        let (wo, l) = (side(j, shs[at(j)].wo), side(j, q.light.map_or(Vec3::Z, |(l, _)| l)));
+        let (wo, l) = (side(j, shs[at(j)].wo()), side(j, q.light.map_or(Vec3::Z, |(l, _)| l)));
         for (axis, (a, b)) in [(wo.x, l.x), (wo.y, l.y), (wo.z, l.z)].into_iter().enumerate() {
             (c.wo[axis][j], c.l[axis][j]) = (a, b);
         }

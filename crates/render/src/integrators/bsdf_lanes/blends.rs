@@ -15,25 +15,22 @@
 //! part answered for the direction it is asked about, so a blend's answer has the bits of
 //! its scalar BSDF (`blends_answered_in_lanes_give_the_scalar_answers`).
 
-use super::{answer_lanes, run_kernel, BsdfAnswer, BsdfQuery, Buckets};
-use crate::bsdfs::{flip, Blend, BsdfKind, BsdfSample, Gather, LaneKernel, LaneSample, MixtureLanes};
-use crate::integrators::nee::Shading;
+use super::{answer_lanes, run_kernel, BsdfAnswer, BsdfPoint, BsdfQuery, Buckets};
+use crate::bsdfs::{flip, Blend, Bsdf, BsdfKind, BsdfSample, Gather, LaneKernel, LaneSample, MixtureLanes};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, V3};
 use penumbra_core::samplers::ONE_MINUS_EPSILON;
 use penumbra_core::Rgb;
 
 /// One part of one blend point, as its own kind answered it: towards the light (in the
-/// frame the parts see), with the part's sample if it is the chosen one, and in the
-/// sampled direction.
+/// frame the parts see) with the part's sample if it is the chosen one, and in the sampled
+/// direction.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Recorded {
+pub(super) struct Recorded<'r> {
     light: Option<Vec3>,
-    f_light: Vec3,
-    pdf_light: f32,
-    sample: Option<BsdfSample>,
-    f_sample: Vec3,
-    pdf_sample: f32,
+    first: Option<&'r BsdfAnswer>,
+    chosen: bool,
+    second: Option<&'r BsdfAnswer>,
 }
 
 /// Eight lanes' [`Recorded`] answers.
@@ -47,7 +44,7 @@ pub(super) struct RecordedLanes<L: Lane8> {
     sample: LaneSample<L>,
 }
 
-impl Gather for Recorded {
+impl Gather for Recorded<'_> {
     type Lanes<L: Lane8> = RecordedLanes<L>;
     #[inline(always)]
     fn gather<L: Lane8>(one: &[Self; 8]) -> RecordedLanes<L> {
@@ -58,22 +55,25 @@ impl Gather for Recorded {
             delta: false,
             eta: 1.0,
         };
-        let s = one.map(|r| r.sample.unwrap_or(none));
+        let sample = |r: &Recorded| r.first.filter(|_| r.chosen).and_then(|a| a.sample);
+        let s = one.map(|r| sample(&r).unwrap_or(none));
         let rgb = |c: Rgb| Vec3::new(c.r, c.g, c.b);
+        let f = |a: Option<&BsdfAnswer>| a.map_or(Vec3::ZERO, |a| rgb(a.f));
+        let pdf = |a: Option<&BsdfAnswer>| a.map_or(0.0, |a| a.pdf);
         RecordedLanes {
             lit: L::mask_of(one.map(|r| r.light.is_some())),
             light: V3::gather(one, |r| r.light.unwrap_or(Vec3::ZERO)),
-            f_light: V3::gather(one, |r| r.f_light),
-            pdf_light: L::from_array(one.map(|r| r.pdf_light)),
-            f_sample: V3::gather(one, |r| r.f_sample),
-            pdf_sample: L::from_array(one.map(|r| r.pdf_sample)),
+            f_light: V3::gather(one, |r| f(r.first)),
+            pdf_light: L::from_array(one.map(|r| pdf(r.first))),
+            f_sample: V3::gather(one, |r| f(r.second)),
+            pdf_sample: L::from_array(one.map(|r| pdf(r.second))),
             sample: LaneSample {
                 wi: V3::gather(&s, |s| s.wi),
                 weight: V3::gather(&s, |s| rgb(s.weight)),
                 pdf: L::from_array(s.map(|s| s.pdf)),
                 delta: L::mask_of(s.map(|s| s.delta)),
                 eta: L::from_array(s.map(|s| s.eta)),
-                ok: L::mask_of(one.map(|r| r.sample.is_some())),
+                ok: L::mask_of(one.map(|r| sample(&r).is_some())),
             },
         }
     }
@@ -117,12 +117,31 @@ fn below_one(u: f32) -> f32 {
     }
 }
 
+/// A blend's part as a point of the BSDF stage: the part's BSDF (made once per blend
+/// point) and the direction towards the viewer as the part sees it (the blend's side).
+#[derive(Clone, Copy)]
+pub(super) struct Part<'r, 's> {
+    bsdf: &'r Bsdf<'s>,
+    wo: Vec3,
+}
+
+impl<'s> BsdfPoint<'s> for Part<'_, 's> {
+    #[inline(always)]
+    fn bsdf(&self) -> &Bsdf<'s> {
+        self.bsdf
+    }
+    #[inline(always)]
+    fn wo(&self) -> Vec3 {
+        self.wo
+    }
+}
+
 /// A blend point's blend, its parts' weights and the mirroring of its two-sided rule.
-fn blend_of<'s>(sh: &Shading<'s>) -> (Blend<'s>, [f32; 2], impl Fn(Vec3) -> Vec3) {
-    let BsdfKind::Blend(b) = sh.bsdf.kind else {
+fn blend_of<'s>(sh: &impl BsdfPoint<'s>) -> (Blend<'s>, [f32; 2], impl Fn(Vec3) -> Vec3) {
+    let BsdfKind::Blend(b) = sh.bsdf().kind else {
         unreachable!("only blends are answered here")
     };
-    let mirrored = sh.bsdf.mirrored(sh.wo);
+    let mirrored = sh.bsdf().mirrored(sh.wo());
     (
         b,
         [1.0 - b.weight, b.weight],
@@ -130,62 +149,46 @@ fn blend_of<'s>(sh: &Shading<'s>) -> (Blend<'s>, [f32; 2], impl Fn(Vec3) -> Vec3
     )
 }
 
-/// Asks of one round: the parts as shading points, what each is asked, and the answers.
-struct Round<'s> {
-    shs: Vec<Shading<'s>>,
+/// What a blend point asks of its parts in the first round.
+struct Plan {
+    /// The part chosen for the sample, if the point wants one.
+    chosen: Option<usize>,
+    /// `u_lobe` rescaled for the chosen part.
+    u_lobe: f32,
+    /// The light's direction and `wo` as the parts see them.
+    light: Option<Vec3>,
+    wo: Vec3,
+}
+
+/// Asks of one round: the parts, what each is asked, and the answers.
+struct Round<'r, 's> {
+    parts: Vec<Part<'r, 's>>,
     queries: Vec<BsdfQuery>,
     answers: Vec<BsdfAnswer>,
 }
 
-/// Part `k` of the blend at `sh` as a shading point of its own: the part's BSDF, seen
-/// from the blend's side.
-fn part_of<'s>(sh: &Shading<'s>, k: usize) -> Shading<'s> {
-    let (b, _, side) = blend_of(sh);
-    Shading {
-        it: sh.it,
-        bsdf: [b.a, b.b][k].bsdf(b.uv),
-        frame: sh.frame,
-        wo: side(sh.wo),
-        ng: sh.ng,
-        origin: sh.origin,
-    }
-}
-
-impl<'s> Round<'s> {
+impl<'r, 's> Round<'r, 's> {
     /// Room for `n` asks (two per blend point at most).
     fn with_capacity(n: usize) -> Self {
         Round {
-            shs: Vec::with_capacity(n),
+            parts: Vec::with_capacity(n),
             queries: Vec::with_capacity(n),
             answers: Vec::with_capacity(n),
         }
     }
 
     /// Asks `part` `query`; its place among the asks.
-    fn ask(&mut self, part: Shading<'s>, query: BsdfQuery) -> Option<usize> {
-        self.shs.push(part);
+    fn ask(&mut self, part: Part<'r, 's>, query: BsdfQuery) -> Option<usize> {
+        self.parts.push(part);
         self.queries.push(query);
-        Some(self.shs.len() - 1)
-    }
-
-    /// The part asked at `at`, again (its BSDF not made anew).
-    fn part(&self, at: usize) -> Shading<'s> {
-        let p = &self.shs[at];
-        Shading {
-            it: p.it,
-            bsdf: p.bsdf,
-            frame: p.frame,
-            wo: p.wo,
-            ng: p.ng,
-            origin: p.origin,
-        }
+        Some(self.parts.len() - 1)
     }
 
     /// Answers the round's asks by kind in `buckets`.
     fn answer(&mut self, buckets: &mut Buckets) {
         self.answers.clear();
-        self.answers.resize(self.shs.len(), BsdfAnswer::default());
-        buckets.answer(&self.shs, &self.queries, &mut self.answers);
+        self.answers.resize(self.parts.len(), BsdfAnswer::default());
+        buckets.answer(&self.parts, &self.queries, &mut self.answers);
     }
 
     fn get(&self, at: Option<usize>) -> Option<BsdfAnswer> {
@@ -195,61 +198,75 @@ impl<'s> Round<'s> {
 
 /// Answers `queries[i]` of the blend points `shs[i]`, `i` in `points`, into `out[i]`: the
 /// parts asked in `parts`' buckets, then mixed in lanes.
-pub(super) fn answer_blends<'s>(
+pub(super) fn answer_blends<'s, P: BsdfPoint<'s>>(
     points: &[usize],
     parts: &mut Buckets,
-    shs: &[Shading<'s>],
+    shs: &[P],
     queries: &[BsdfQuery],
     out: &mut [BsdfAnswer],
 ) {
-    // First round: the chosen part's sample, every weighed part towards the light.
-    let mut first = Round::with_capacity(2 * points.len());
-    let mut asked = Vec::with_capacity(points.len());
+    // Each point's plan, and its parts' BSDFs where a round may ask them (the chosen
+    // part, the parts of positive weight).
+    let mut plans = Vec::with_capacity(points.len());
+    let mut bsdfs: Vec<[Option<Bsdf<'s>>; 2]> = Vec::with_capacity(points.len());
     for &i in points {
         let (sh, q) = (&shs[i], &queries[i]);
-        let (_, [wa, wb], side) = blend_of(sh);
+        let (b, [wa, wb], side) = blend_of(sh);
         let take_a = q.u_lobe < wa;
-        let u_lobe = below_one(if take_a { q.u_lobe / wa } else { (q.u_lobe - wa) / wb });
-        // The density too, whatever the point needs: the sampled direction may be the
-        // light's, whose answer the replay then gives back.
-        let light = q.light.map(|(l, _)| (side(l), true));
         // (A point that wants no sample chooses no part.)
         let chosen = q.sample.then_some(if take_a { 0 } else { 1 });
+        let needed = |k: usize, w: f32| (chosen == Some(k) || w > 0.0).then(|| [b.a, b.b][k].bsdf(b.uv));
+        bsdfs.push([needed(0, wa), needed(1, wb)]);
+        plans.push(Plan {
+            chosen,
+            u_lobe: below_one(if take_a { q.u_lobe / wa } else { (q.u_lobe - wa) / wb }),
+            light: q.light.map(|(l, _)| side(l)),
+            wo: side(sh.wo()),
+        });
+    }
+    // First round: the chosen part's sample, every weighed part towards the light (its
+    // density too, whatever the point needs: the sampled direction may be the light's,
+    // whose answer the replay then gives back).
+    let mut first = Round::with_capacity(2 * points.len());
+    let mut asked = Vec::with_capacity(points.len());
+    for (&i, (plan, parts)) in points.iter().zip(plans.iter().zip(&bsdfs)) {
+        let (_, weights, _) = blend_of(&shs[i]);
         let mut at = [None; 2];
-        for (k, w) in [wa, wb].into_iter().enumerate() {
-            let sample = chosen == Some(k);
-            if sample || (w > 0.0 && light.is_some()) {
+        for (k, w) in weights.into_iter().enumerate() {
+            let sample = plan.chosen == Some(k);
+            if let Some(bsdf) = parts[k]
+                .as_ref()
+                .filter(|_| sample || (w > 0.0 && plan.light.is_some()))
+            {
                 let query = BsdfQuery {
-                    light,
+                    light: plan.light.map(|l| (l, true)),
                     sample,
-                    u_lobe,
-                    u: q.u,
+                    u_lobe: plan.u_lobe,
+                    u: queries[i].u,
                 };
-                at[k] = first.ask(part_of(sh, k), query);
+                at[k] = first.ask(Part { bsdf, wo: plan.wo }, query);
             }
         }
-        asked.push((at, chosen));
+        asked.push(at);
     }
     first.answer(parts);
     // Second round: every weighed part in the direction of a smooth sample.
     let mut second = Round::with_capacity(2 * points.len());
     let mut again = Vec::with_capacity(points.len());
-    for (&i, &(at, chosen)) in points.iter().zip(&asked) {
-        let sh = &shs[i];
-        let (_, weights, _) = blend_of(sh);
+    for (&i, ((plan, parts), at)) in points.iter().zip(plans.iter().zip(&bsdfs).zip(&asked)) {
+        let (_, weights, _) = blend_of(&shs[i]);
         let mut at2 = [None; 2];
-        let sampled = chosen.and_then(|k| first.get(at[k])).and_then(|a| a.sample);
+        let sampled = plan.chosen.and_then(|k| first.get(at[k])).and_then(|a| a.sample);
         if let Some(s) = sampled.filter(|s| !s.delta) {
             for (k, w) in weights.into_iter().enumerate() {
-                if w > 0.0 {
+                if let Some(bsdf) = parts[k].as_ref().filter(|_| w > 0.0) {
                     let query = BsdfQuery {
                         light: Some((s.wi, true)),
                         sample: false,
                         u_lobe: 0.5,
                         u: Vec2::splat(0.5),
                     };
-                    let part = at[k].map_or_else(|| part_of(sh, k), |j| first.part(j));
-                    at2[k] = second.ask(part, query);
+                    at2[k] = second.ask(Part { bsdf, wo: plan.wo }, query);
                 }
             }
         }
@@ -257,36 +274,20 @@ pub(super) fn answer_blends<'s>(
     }
     second.answer(parts);
     // The mixtures of the recorded answers, eight points at a time.
-    let rgb = |c: Rgb| Vec3::new(c.r, c.g, c.b);
-    let recorded: Vec<[Recorded; 2]> = points
-        .iter()
-        .zip(asked.iter().zip(&again))
-        .map(|(&i, (&(at, chosen), at2))| {
-            let (_, _, side) = blend_of(&shs[i]);
-            std::array::from_fn(|k| {
-                let (a1, a2) = (first.get(at[k]), second.get(at2[k]));
-                Recorded {
-                    light: queries[i].light.map(|(l, _)| side(l)),
-                    f_light: a1.map_or(Vec3::ZERO, |a| rgb(a.f)),
-                    pdf_light: a1.map_or(0.0, |a| a.pdf),
-                    sample: if chosen == Some(k) {
-                        a1.and_then(|a| a.sample)
-                    } else {
-                        None
-                    },
-                    f_sample: a2.map_or(Vec3::ZERO, |a| rgb(a.f)),
-                    pdf_sample: a2.map_or(0.0, |a| a.pdf),
-                }
-            })
-        })
-        .collect();
     for (g, group) in points.chunks(8).enumerate() {
         answer_lanes(group, shs, queries, out, Some(run_kernel), |p| {
+            let n = 8 * g + p;
             let (b, _, _) = blend_of(&shs[group[p]]);
-            let [a, c] = recorded[8 * g + p];
+            let (plan, at, at2) = (&plans[n], &asked[n], &again[n]);
+            let part = |k: usize| Recorded {
+                light: plan.light,
+                first: at[k].map(|j| &first.answers[j]),
+                chosen: plan.chosen == Some(k),
+                second: at2[k].map(|j| &second.answers[j]),
+            };
             MixtureLanes {
-                a,
-                b: c,
+                a: part(0),
+                b: part(1),
                 weight: b.weight,
             }
         });
