@@ -11,9 +11,11 @@
 //! light; then, where the chosen part's sample is not a delta one, every part of positive
 //! weight for its value and density in the sampled direction. Only the chosen part is
 //! asked for a sample (`BsdfQuery::sample`), so a blend of blends, asked for values alone,
-//! asks its own parts for values alone, as the scalar mixture does. The replay gives back what a
-//! part answered for the direction it is asked about, so a blend's answer has the bits of
-//! its scalar BSDF (`blends_answered_in_lanes_give_the_scalar_answers`).
+//! asks its own parts for values alone, as the scalar mixture does. The replay gives back
+//! what a part answered for the direction it is asked about, so a blend's answer has the
+//! bits of its scalar BSDF (`blends_answered_in_lanes_give_the_scalar_answers`). Blends
+//! nest at most `MAX_NESTING` deep (the scene's build refuses deeper), which bounds the
+//! recursion through the parts' buckets.
 
 use super::{answer_lanes, run_kernel, BsdfAnswer, BsdfPoint, BsdfQuery, Buckets};
 use crate::bsdfs::{flip, Blend, Bsdf, BsdfKind, BsdfSample, Gather, LaneKernel, LaneSample, MixtureLanes};
