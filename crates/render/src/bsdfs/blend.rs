@@ -124,9 +124,12 @@ impl<R: Real, A, B> MixtureLanes<R, A, B> {
     }
 }
 
-/// `u.min(ONE_MINUS_EPSILON)` per lane (NaN gives the bound, as `f32::min`).
+/// `u_lobe` rescaled to [0, 1) within the part it chose: `u / wa` for part a, `(u - wa) /
+/// wb` for part b, kept below one per lane (NaN gives the bound, as `f32::min`). The
+/// wavefront's blend rounds rescale with it too (`integrators/bsdf_lanes/blends.rs`).
 #[inline(always)]
-fn below_one<R: Real>(u: R) -> R {
+pub(crate) fn part_lobe<R: Real>(u_lobe: R, (wa, wb): (R, R), part_a: bool) -> R {
+    let u = if part_a { u_lobe / wa } else { (u_lobe - wa) / wb };
     let cap = R::splat(ONE_MINUS_EPSILON);
     R::select(u.cmp_lt(cap), u, cap)
 }
@@ -180,11 +183,11 @@ impl<R: Real, S: Spectrum<R>, A: LaneKernel<R, S>, B: LaneKernel<R, S>> LaneKern
             R,
             take_a,
             {
-                let s = self.a.sample(wo, below_one(u_lobe / wa), u);
+                let s = self.a.sample(wo, part_lobe(u_lobe, (wa, wb), true), u);
                 LaneSample { ok: usable(&s), ..s }
             },
             {
-                let s = self.b.sample(wo, below_one((u_lobe - wa) / wb), u);
+                let s = self.b.sample(wo, part_lobe(u_lobe, (wa, wb), false), u);
                 LaneSample { ok: usable(&s), ..s }
             }
         );

@@ -28,6 +28,7 @@ mod tests;
 #[cfg(test)]
 mod tests_table;
 
+pub(crate) use blend::part_lobe;
 pub use blend::{Blend, MixtureLanes, OneBsdf};
 pub use conductor::{Conductor, ConductorLanes, MetalFresnel};
 pub use dielectric::{Dielectric, DielectricLanes, Lobe};

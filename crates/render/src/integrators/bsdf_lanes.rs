@@ -417,19 +417,18 @@ mod tests {
         // Blends of blends: a blend of a blend of a blend, and one of eight dielectrics of
         // different indices, as a Mitsuba scene nests them.
         for i in 0..30 {
-            let leaf = |rng: &mut Pcg32, k: usize| parts(rng, k);
             let w = |rng: &mut Pcg32| Texture::Constant(Rgb::splat(rng.next_f32()));
             let deep = Material::Blend {
                 a: Box::new(Material::Blend {
-                    a: Box::new(leaf(&mut rng, i)),
+                    a: Box::new(parts(&mut rng, i)),
                     b: Box::new(Material::Blend {
-                        a: Box::new(leaf(&mut rng, i + 3)),
-                        b: Box::new(leaf(&mut rng, i + 7)),
+                        a: Box::new(parts(&mut rng, i + 3)),
+                        b: Box::new(parts(&mut rng, i + 7)),
                         weight: w(&mut rng),
                     }),
                     weight: w(&mut rng),
                 }),
-                b: Box::new(leaf(&mut rng, i + 1)),
+                b: Box::new(parts(&mut rng, i + 1)),
                 weight: w(&mut rng),
             };
             let mut glasses: Vec<Material> = (0..8)
@@ -507,7 +506,7 @@ mod tests {
         for (i, (sh, q)) in shs.iter().zip(queries).enumerate() {
             let one = answer_one(sh, q);
             assert_eq!(bits(out[i].f), bits(one.f), "value, point {i} at {level}");
-            assert_eq!(out[i].pdf.to_bits(), one.pdf.to_bits(), "density, point {i}");
+            assert_eq!(out[i].pdf.to_bits(), one.pdf.to_bits(), "density, point {i} at {level}");
             assert_eq!(
                 out[i].sample.is_some(),
                 one.sample.is_some(),

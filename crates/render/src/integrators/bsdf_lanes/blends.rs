@@ -18,10 +18,10 @@
 //! recursion through the parts' buckets.
 
 use super::{answer_lanes, run_kernel, BsdfAnswer, BsdfPoint, BsdfQuery, Buckets};
-use crate::bsdfs::{flip, Blend, Bsdf, BsdfKind, BsdfSample, Gather, LaneKernel, LaneSample, MixtureLanes};
+
+use crate::bsdfs::{flip, part_lobe, Blend, Bsdf, BsdfKind, BsdfSample, Gather, LaneKernel, LaneSample, MixtureLanes};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, V3};
-use penumbra_core::samplers::ONE_MINUS_EPSILON;
 use penumbra_core::Rgb;
 
 /// One part of one blend point, as its own kind answered it: towards the light (in the
@@ -110,15 +110,6 @@ impl<L: Lane8> LaneKernel<L> for RecordedLanes<L> {
     }
 }
 
-/// `u.min(ONE_MINUS_EPSILON)` (NaN gives the bound), as the mixture rescales `u_lobe`.
-fn below_one(u: f32) -> f32 {
-    if u < ONE_MINUS_EPSILON {
-        u
-    } else {
-        ONE_MINUS_EPSILON
-    }
-}
-
 /// A blend's part as a point of the BSDF stage: the part's BSDF (made once per blend
 /// point) and the direction towards the viewer as the part sees it (the blend's side).
 #[derive(Clone, Copy)]
@@ -138,21 +129,20 @@ impl<'s> BsdfPoint<'s> for Part<'_, 's> {
     }
 }
 
-/// A blend point's blend, its parts' weights and the mirroring of its two-sided rule.
-fn blend_of<'s>(sh: &impl BsdfPoint<'s>) -> (Blend<'s>, [f32; 2], impl Fn(Vec3) -> Vec3) {
+/// A blend point's blend and the mirroring of its two-sided rule.
+fn blend_of<'s>(sh: &impl BsdfPoint<'s>) -> (Blend<'s>, impl Fn(Vec3) -> Vec3) {
     let BsdfKind::Blend(b) = sh.bsdf().kind else {
         unreachable!("only blends are answered here")
     };
     let mirrored = sh.bsdf().mirrored(sh.wo());
-    (
-        b,
-        [1.0 - b.weight, b.weight],
-        move |w| if mirrored { flip(w) } else { w },
-    )
+    (b, move |w| if mirrored { flip(w) } else { w })
 }
 
 /// What a blend point asks of its parts in the first round.
 struct Plan {
+    /// The blend's weight of part b, and the parts' weights, 1 - w and w.
+    weight: f32,
+    weights: [f32; 2],
     /// The part chosen for the sample, if the point wants one.
     chosen: Option<usize>,
     /// `u_lobe` rescaled for the chosen part.
@@ -180,10 +170,10 @@ impl<'r, 's> Round<'r, 's> {
     }
 
     /// Asks `part` `query`; its place among the asks.
-    fn ask(&mut self, part: Part<'r, 's>, query: BsdfQuery) -> Option<usize> {
+    fn ask(&mut self, part: Part<'r, 's>, query: BsdfQuery) -> usize {
         self.parts.push(part);
         self.queries.push(query);
-        Some(self.parts.len() - 1)
+        self.parts.len() - 1
     }
 
     /// Answers the round's asks by kind in `buckets`.
@@ -213,15 +203,18 @@ pub(super) fn answer_blends<'s, P: BsdfPoint<'s>>(
     let mut bsdfs: Vec<[Option<Bsdf<'s>>; 2]> = Vec::with_capacity(points.len());
     for &i in points {
         let (sh, q) = (&shs[i], &queries[i]);
-        let (b, [wa, wb], side) = blend_of(sh);
+        let (b, side) = blend_of(sh);
+        let (wa, wb) = (1.0 - b.weight, b.weight);
         let take_a = q.u_lobe < wa;
         // (A point that wants no sample chooses no part.)
         let chosen = q.sample.then_some(if take_a { 0 } else { 1 });
         let needed = |k: usize, w: f32| (chosen == Some(k) || w > 0.0).then(|| [b.a, b.b][k].bsdf(b.uv));
         bsdfs.push([needed(0, wa), needed(1, wb)]);
         plans.push(Plan {
+            weight: b.weight,
+            weights: [wa, wb],
             chosen,
-            u_lobe: below_one(if take_a { q.u_lobe / wa } else { (q.u_lobe - wa) / wb }),
+            u_lobe: part_lobe(q.u_lobe, (wa, wb), take_a),
             light: q.light.map(|(l, _)| side(l)),
             wo: side(sh.wo()),
         });
@@ -231,12 +224,11 @@ pub(super) fn answer_blends<'s, P: BsdfPoint<'s>>(
     // whose answer the replay then gives back).
     let mut first = Round::with_capacity(2 * points.len());
     let mut asked = Vec::with_capacity(points.len());
-    for (&i, (plan, parts)) in points.iter().zip(plans.iter().zip(&bsdfs)) {
-        let (_, weights, _) = blend_of(&shs[i]);
+    for (&i, (plan, part_bsdfs)) in points.iter().zip(plans.iter().zip(&bsdfs)) {
         let mut at = [None; 2];
-        for (k, w) in weights.into_iter().enumerate() {
+        for (k, w) in plan.weights.into_iter().enumerate() {
             let sample = plan.chosen == Some(k);
-            if let Some(bsdf) = parts[k]
+            if let Some(bsdf) = part_bsdfs[k]
                 .as_ref()
                 .filter(|_| sample || (w > 0.0 && plan.light.is_some()))
             {
@@ -246,7 +238,7 @@ pub(super) fn answer_blends<'s, P: BsdfPoint<'s>>(
                     u_lobe: plan.u_lobe,
                     u: queries[i].u,
                 };
-                at[k] = first.ask(Part { bsdf, wo: plan.wo }, query);
+                at[k] = Some(first.ask(Part { bsdf, wo: plan.wo }, query));
             }
         }
         asked.push(at);
@@ -255,20 +247,19 @@ pub(super) fn answer_blends<'s, P: BsdfPoint<'s>>(
     // Second round: every weighed part in the direction of a smooth sample.
     let mut second = Round::with_capacity(2 * points.len());
     let mut again = Vec::with_capacity(points.len());
-    for (&i, ((plan, parts), at)) in points.iter().zip(plans.iter().zip(&bsdfs).zip(&asked)) {
-        let (_, weights, _) = blend_of(&shs[i]);
+    for ((plan, part_bsdfs), at) in plans.iter().zip(&bsdfs).zip(&asked) {
         let mut at2 = [None; 2];
         let sampled = plan.chosen.and_then(|k| first.get(at[k])).and_then(|a| a.sample);
         if let Some(s) = sampled.filter(|s| !s.delta) {
-            for (k, w) in weights.into_iter().enumerate() {
-                if let Some(bsdf) = parts[k].as_ref().filter(|_| w > 0.0) {
+            for (k, w) in plan.weights.into_iter().enumerate() {
+                if let Some(bsdf) = part_bsdfs[k].as_ref().filter(|_| w > 0.0) {
                     let query = BsdfQuery {
                         light: Some((s.wi, true)),
                         sample: false,
                         u_lobe: 0.5,
                         u: Vec2::splat(0.5),
                     };
-                    at2[k] = second.ask(Part { bsdf, wo: plan.wo }, query);
+                    at2[k] = Some(second.ask(Part { bsdf, wo: plan.wo }, query));
                 }
             }
         }
@@ -279,7 +270,6 @@ pub(super) fn answer_blends<'s, P: BsdfPoint<'s>>(
     for (g, group) in points.chunks(8).enumerate() {
         answer_lanes(group, shs, queries, out, Some(run_kernel), |p| {
             let n = 8 * g + p;
-            let (b, _, _) = blend_of(&shs[group[p]]);
             let (plan, at, at2) = (&plans[n], &asked[n], &again[n]);
             let part = |k: usize| Recorded {
                 light: plan.light,
@@ -290,7 +280,7 @@ pub(super) fn answer_blends<'s, P: BsdfPoint<'s>>(
             MixtureLanes {
                 a: part(0),
                 b: part(1),
-                weight: b.weight,
+                weight: plan.weight,
             }
         });
     }
