@@ -169,9 +169,10 @@ impl<P: PrimitiveSet> Bvh<P> {
                     let mut lane = first;
                     loop {
                         let (r, d) = (entry(lane), t0[lane]);
-                        if node.count[lane] == 0 {
-                            prefetch(self.nodes.get(node.child[lane] as usize));
-                        }
+                        // An interior child's node is asked for (a leaf's lane asks for
+                        // the root's, which is in cache): a select, not a branch.
+                        let ahead = (node.count[lane] == 0) as usize * node.child[lane] as usize;
+                        prefetch(&self.nodes[ahead]);
                         let mut k = top;
                         if NEAREST_FIRST {
                             // SAFETY: slots below `top` were written.
@@ -302,10 +303,8 @@ impl<P: PrimitiveSet> Bvh<P> {
 /// Asks the caches for a node about to be pushed: by the time it is popped its cache lines
 /// are more likely there, which helps incoherent rays most.
 #[inline(always)]
-fn prefetch(node: Option<&WideNode>) {
-    if let Some(node) = node {
-        penumbra_core::simd::prefetch(node);
-    }
+fn prefetch(node: &WideNode) {
+    penumbra_core::simd::prefetch(node);
 }
 
 /// What the slab test needs of a ray: origin and inverse direction per axis, and which of

@@ -118,16 +118,17 @@ impl Triangle4 {
     fn test(&self, r: &TriangleRay, t_max: f32, active: u32) -> Lanes {
         let [kx, ky, kz] = r.axes;
         let (sx, sy) = (Vec4::splat(r.shear.x), Vec4::splat(r.shear.y));
-        let origin = [
-            Vec4::splat(r.origin.x),
-            Vec4::splat(r.origin.y),
-            Vec4::splat(r.origin.z),
-        ];
+        // The origin already permuted (a `Vec4` array indexed by an axis became a jump
+        // table, its target a coin toss).
+        let origin = r.origin.map(Vec4::splat);
         // Each vertex relative to the origin, permuted so z is the dominant axis, sheared.
         let vertex = |k: usize| {
-            let d = |axis: usize| self.v[3 * k + axis] - origin[axis];
-            let dz = d(kz);
-            (d(kx) + sx * dz, d(ky) + sy * dz, dz)
+            let dz = self.v[3 * k + kz] - origin[2];
+            (
+                (self.v[3 * k + kx] - origin[0]) + sx * dz,
+                (self.v[3 * k + ky] - origin[1]) + sy * dz,
+                dz,
+            )
         };
         let (p0, p1, p2) = (vertex(0), vertex(1), vertex(2));
         let e0 = p1.0 * p2.1 - p1.1 * p2.0;
