@@ -15,7 +15,7 @@ use glam::{Mat3, Vec2, Vec3};
 use penumbra::math::lanes::{Lane8, F8, V3};
 #[cfg(target_arch = "x86_64")]
 use penumbra::math::lanes_avx::F8Avx;
-use penumbra::math::{warp, Pcg32, Rgb};
+use penumbra::math::{warp, Draw, Pcg32, Rgb};
 use penumbra::renderer::bsdfs::{BsdfKind, Gather, LaneKernel, MetalFresnel, MixtureLanes, TransportMode};
 use penumbra::renderer::lights::emitter::{Emitter, EmitterShape};
 use penumbra::renderer::lights::lanes::sample_li_lanes;
@@ -254,7 +254,7 @@ fn lights() -> Vec<(&'static str, Light)> {
         ),
         (
             "environment map",
-            Light::Environment(Environment::image(sky, Rgb::WHITE, Mat3::IDENTITY).expect("a valid map")),
+            Light::Environment(Environment::image(sky, Rgb::WHITE, Mat3::IDENTITY, Draw::Alias).expect("a valid map")),
         ),
     ]
 }

@@ -1,7 +1,7 @@
 //! A discrete distribution over `n` items with given non-negative weights, sampled by
 //! inverting its cumulative distribution (pbrt-v4 section A.1, "PiecewiseConstant1D",
-//! restricted to the discrete case). Used to pick a light by power or a triangle by area;
-//! [`Distribution2D`] builds on it for environment maps. The inversion starts from a guide
+//! restricted to the discrete case). Used to pick a light by power or a triangle by area.
+//! The inversion starts from a guide
 //! table (Chen and Asau, "On Generating Random Variates from an Empirical Distribution",
 //! AIIE Transactions 6(2), 1974): the item at each of n equally spaced values of u, so
 //! that a search covers one bucket instead of the whole CDF, with the same result.
@@ -148,7 +148,7 @@ impl<P: Copy> Distribution1D<P> {
     /// Asks the caches for the guide table's entries of `u`'s bucket, which
     /// [`Distribution1D::prefetch_sample`] reads.
     #[inline]
-    fn prefetch_guide(&self, u: f32) {
+    pub(crate) fn prefetch_guide(&self, u: f32) {
         if self.len() > SMALL {
             let j = self.bucket_index(u);
             crate::simd::prefetch(&self.table[j]);
@@ -160,15 +160,11 @@ impl<P: Copy> Distribution1D<P> {
     /// table's bucket (the guide entries themselves are read here, and no branch waits on
     /// them, so the loads of several lanes' calls overlap).
     #[inline]
-    fn prefetch_sample(&self, u: f32) {
+    pub(crate) fn prefetch_sample(&self, u: f32) {
         if self.len() > SMALL {
             let (lo, hi) = self.bucket(u);
             crate::simd::prefetch(&self.table[lo]);
             crate::simd::prefetch(&self.table[hi + 1]);
-            // The payload the sample will read is near the bucket's first item.
-            if std::mem::size_of::<P>() > 0 {
-                crate::simd::prefetch(&self.items[lo]);
-            }
         }
     }
 
@@ -232,177 +228,9 @@ fn unit_clamp<R: Real>(x: R) -> R {
     R::select(x.cmp_gt(top), top, x)
 }
 
-/// A piecewise-constant density over the unit square from a `width` x `height` grid of
-/// non-negative weights (row-major, row 0 at v = 0), sampled by the marginal over rows and
-/// the conditional within the chosen row (pbrt-v4 section A.5, "PiecewiseConstant2D").
-/// Each cell may carry a payload `P` (see [`Distribution1D`]); cells of rows of zero weight
-/// have none.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Distribution2D<P = ()> {
-    rows: Vec<Option<Distribution1D<P>>>,
-    marginal: Distribution1D,
-    width: usize,
-    height: usize,
-}
-
-impl Distribution2D {
-    /// `None` when the weights are all zero, or one is negative or not finite.
-    pub fn new(weights: &[f32], width: usize, height: usize) -> Option<Self> {
-        Distribution2D::with_items(weights, |_| (), width, height)
-    }
-}
-
-impl<P: Copy> Distribution2D<P> {
-    /// The weights as for [`Distribution2D::new`], cell `i` (row-major) carrying
-    /// `item(i, density)`, with `density` the density [`Distribution2D::pdf`] gives there.
-    pub fn with_items(weights: &[f32], item: impl Fn((usize, f32)) -> P, width: usize, height: usize) -> Option<Self> {
-        if width == 0 || height == 0 || weights.len() != width * height {
-            return None;
-        }
-        if weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) {
-            return None;
-        }
-        let plain: Vec<Option<Distribution1D>> = weights
-            .chunks(width)
-            .map(|row| Distribution1D::new(row.iter().copied()))
-            .collect();
-        let marginal = Distribution1D::new(plain.iter().map(|r| r.as_ref().map_or(0.0, |d| d.total() as f32)))?;
-        let cells = (width * height) as f32;
-        let rows = plain
-            .iter()
-            .enumerate()
-            .map(|(y, row)| {
-                let row = row.as_ref()?;
-                let items = (0..width).map(|x| {
-                    let density = marginal.pmf(y) * row.pmf(x) * cells;
-                    (weights[y * width + x], item((y * width + x, density)))
-                });
-                Distribution1D::with_items(items)
-            })
-            .collect();
-        Some(Distribution2D {
-            rows,
-            marginal,
-            width,
-            height,
-        })
-    }
-
-    /// A point of the unit square and its density there.
-    pub fn sample(&self, u: [f32; 2]) -> ([f32; 2], f32) {
-        let (point, density, _) = self.sample_item(u);
-        (point, density)
-    }
-
-    /// [`Distribution2D::sample`] with the payload of the cell the point lies in (one
-    /// sample alone: the steps' prefetches serve only lanes that interleave them).
-    pub fn sample_item(&self, u: [f32; 2]) -> ([f32; 2], f32, P) {
-        self.sample_in_row(u[0], self.sample_row(u))
-    }
-
-    /// The first step of [`Distribution2D::sample_item`]: the row `u[1]` picks (its number,
-    /// probability and `u[1]` rescaled within it), having asked the caches for the row's
-    /// guide entries that [`Distribution2D::prefetch_in_row`] with `u[0]` reads. Lanes
-    /// that take every step for all lanes before the next wait on their memory together:
-    /// a large map's tables are not in the caches, and each step's reads depend on the
-    /// step before.
-    #[inline]
-    pub fn sample_row(&self, u: [f32; 2]) -> (usize, f32, f32) {
-        let picked = self.marginal.sample(u[1]);
-        if let Some(row) = &self.rows[picked.0] {
-            row.prefetch_guide(u[0]);
-        }
-        picked
-    }
-
-    /// The second step of [`Distribution2D::sample_item`] taken in lanes (a sample alone
-    /// skips it): asks the caches for the entries of the row `picked` that
-    /// [`Distribution2D::sample_in_row`] with `u0` reads (the ends of its guide bucket,
-    /// the payload).
-    #[inline]
-    pub fn prefetch_in_row(&self, u0: f32, picked: (usize, f32, f32)) {
-        if let Some(row) = &self.rows[picked.0] {
-            row.prefetch_sample(u0);
-        }
-    }
-
-    /// The last step of [`Distribution2D::sample_item`]: the point in the row `picked`
-    /// ([`Distribution2D::sample_row`]'s answer) that `u0` picks, its density and payload.
-    #[inline]
-    pub fn sample_in_row(&self, u0: f32, picked: (usize, f32, f32)) -> ([f32; 2], f32, P) {
-        let (y, py, rest_y) = picked;
-        let row = self.rows[y].as_ref().expect("rows of zero weight are never chosen");
-        let (x, px, rest_x) = row.sample(u0);
-        // Kept inside the chosen cell (x + rest can round up to the next one).
-        let within =
-            |i: usize, rest: f32, n: usize| ((i as f32 + rest) / n as f32).min(((i + 1) as f32 / n as f32).next_down());
-        let point = [within(x, rest_x, self.width), within(y, rest_y, self.height)];
-        (point, px * py * (self.width * self.height) as f32, row.item(x))
-    }
-
-    /// The cell holding point `p` of the unit square: (column, row).
-    fn cell(&self, p: [f32; 2]) -> (usize, usize) {
-        let x = ((p[0] * self.width as f32) as usize).min(self.width - 1);
-        let y = ((p[1] * self.height as f32) as usize).min(self.height - 1);
-        (x, y)
-    }
-
-    /// The density at point `p` of the unit square.
-    pub fn pdf(&self, p: [f32; 2]) -> f32 {
-        let (x, y) = self.cell(p);
-        let Some(row) = &self.rows[y] else {
-            return 0.0;
-        };
-        self.marginal.pmf(y) * row.pmf(x) * (self.width * self.height) as f32
-    }
-
-    /// Asks the caches for the entry [`Distribution2D::item_at`] reads for `p` (see
-    /// [`Distribution2D::sample_row`]).
-    #[inline]
-    pub fn prefetch_at(&self, p: [f32; 2]) {
-        let (x, y) = self.cell(p);
-        if let Some(row) = &self.rows[y] {
-            crate::simd::prefetch(&row.items[x]);
-        }
-    }
-
-    /// The payload of the cell holding point `p`; `None` in a row of zero weight.
-    pub fn item_at(&self, p: [f32; 2]) -> Option<P> {
-        let (x, y) = self.cell(p);
-        self.rows[y].as_ref().map(|row| row.item(x))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn two_dimensional_density_matches_its_weights() {
-        // 3 x 2 weights; the density of each cell is weight / mean weight.
-        let w = [1.0, 0.0, 2.0, 3.0, 0.0, 0.0];
-        let d = Distribution2D::new(&w, 3, 2).unwrap();
-        let mean = 1.0;
-        for (i, &wi) in w.iter().enumerate() {
-            let p = [((i % 3) as f32 + 0.5) / 3.0, ((i / 3) as f32 + 0.5) / 2.0];
-            assert!((d.pdf(p) - wi / mean).abs() < 1e-5, "cell {i}: {}", d.pdf(p));
-        }
-        // Samples land in cells in proportion to the weights, with the density of their cell.
-        let n = 60_000;
-        let mut counts = [0usize; 6];
-        for k in 0..n {
-            let u = [((k * 7919) % n) as f32 / n as f32, (k as f32 + 0.5) / n as f32];
-            let (p, pdf) = d.sample(u);
-            let cell = ((p[0] * 3.0) as usize).min(2) + 3 * ((p[1] * 2.0) as usize).min(1);
-            assert!((pdf - d.pdf(p)).abs() < 1e-4 * pdf, "{p:?}: {pdf} vs {}", d.pdf(p));
-            counts[cell] += 1;
-        }
-        for (i, &c) in counts.iter().enumerate() {
-            let want = w[i] / 6.0;
-            assert!((c as f32 / n as f32 - want).abs() < 0.01, "cell {i}: {c}");
-        }
-        assert!(Distribution2D::new(&[0.0; 4], 2, 2).is_none());
-    }
 
     #[test]
     fn picks_in_proportion_to_weight_and_skips_empty_items() {

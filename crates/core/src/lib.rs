@@ -4,9 +4,11 @@
 //! rays with robust origin offsets, bounding boxes, orthonormal frames, affine transforms,
 //! linear RGB colour, a PCG32 generator and deterministic per-pixel samplers.
 
+pub mod alias;
 pub mod bounds;
 pub mod color;
 pub mod distribution;
+pub mod distribution2d;
 pub mod frame;
 pub mod hash;
 pub mod lanes;
@@ -24,7 +26,8 @@ pub mod warp;
 
 pub use bounds::Aabb;
 pub use color::Rgb;
-pub use distribution::{Distribution1D, Distribution2D};
+pub use distribution::Distribution1D;
+pub use distribution2d::{Distribution2D, Draw};
 pub use frame::Frame;
 pub use glam::{Mat3, Mat4, UVec2, Vec2, Vec3};
 pub use ray::Ray;

@@ -5,7 +5,7 @@
 use crate::desc::{CameraKind, EnvironmentDesc, EnvironmentSource, LightDesc, SceneDesc, ShapeKind};
 use crate::emitters::area_lights;
 use crate::{Location, SceneError};
-use penumbra_core::Transform;
+use penumbra_core::{Draw, SamplerKind, Transform};
 use penumbra_geometry::shapes::{Cuboid, Disk, Plane, Quad, Sphere};
 use penumbra_geometry::{GeometryBuilder, Instance, MeshAccel, Shape};
 use penumbra_render::cameras::{Orthographic, Perspective};
@@ -163,7 +163,9 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         lights.add(light);
     }
     let environment = match &desc.environment {
-        Some(e) => Some(lights.add(Light::Environment(environment(e).map_err(|m| fail(&e.location, &m))?))),
+        Some(e) => Some(lights.add(Light::Environment(
+            environment(e, desc.render.sampler).map_err(|m| fail(&e.location, &m))?,
+        ))),
         None => None,
     };
     let lights = lights.build();
@@ -186,8 +188,11 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
     .prepared())
 }
 
-/// The environment light `e` describes, its map loaded; the error names the map.
-fn environment(e: &EnvironmentDesc) -> Result<Environment, String> {
+/// The environment light `e` describes, its map loaded; the error names the map. Its
+/// cells are drawn by the alias method when `sampler` gives independent numbers (faster,
+/// nothing to keep stratified), else by inverting the CDFs (which keeps a stratified or
+/// low-discrepancy sampler's numbers stratified over the map).
+fn environment(e: &EnvironmentDesc, sampler: SamplerKind) -> Result<Environment, String> {
     let (path, octahedral) = match &e.source {
         EnvironmentSource::Constant => return Ok(Environment::constant(e.scale)),
         EnvironmentSource::Image(path) => (path, false),
@@ -215,5 +220,10 @@ fn environment(e: &EnvironmentDesc) -> Result<Environment, String> {
     // The map's frame: the transform's rotation (its columns made unit length).
     let m = glam::Mat3::from_mat4(e.transform.m);
     let rotation = glam::Mat3::from_cols(m.x_axis.normalize(), m.y_axis.normalize(), m.z_axis.normalize());
-    Environment::image(image, e.scale, rotation).map_err(|m| format!("the environment map {}: {m}", path.display()))
+    let draw = match sampler {
+        SamplerKind::Independent => Draw::Alias,
+        _ => Draw::Inverted,
+    };
+    Environment::image(image, e.scale, rotation, draw)
+        .map_err(|m| format!("the environment map {}: {m}", path.display()))
 }

@@ -15,7 +15,7 @@ use glam::{Mat3, Vec2, Vec3};
 use penumbra_core::frame::Basis;
 use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::spectrum::Spectrum;
-use penumbra_core::{trig, warp, Distribution2D, Ray, Rgb};
+use penumbra_core::{trig, warp, Distribution2D, Draw, Ray, Rgb};
 use std::f32::consts::PI;
 
 /// What the map holds for a direction (see [`Environment::lookup`]): its radiance and
@@ -26,17 +26,11 @@ pub struct MapPoint {
     pdf: f32,
 }
 
-/// A pixel's radiance (times the map's scale) and the 2D density of its cell, kept beside
-/// its entry of the sampling distribution (one cache line for a sample's whole answer).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct Texel {
-    radiance: Rgb,
-    density: f32,
-}
-
 #[derive(Clone, Debug, PartialEq)]
 pub struct Environment {
-    image: Option<(TextureImage, Distribution2D<Texel>)>,
+    /// The map, and its sampling distribution, each cell carrying its pixel's radiance
+    /// (times the map's scale) beside its density: a sample's whole answer in one read.
+    image: Option<(TextureImage, Distribution2D<Rgb>)>,
     /// The radiance of a constant environment, or the image's multiplier.
     scale: Rgb,
     /// From the map's frame to the world, and back.
@@ -59,9 +53,10 @@ impl Environment {
     }
 
     /// An equirectangular map (row 0 at the top, θ = 0) times `scale`, turned by the
-    /// rotation `to_world`. An error when a pixel is negative or not finite, or the map is
-    /// black.
-    pub fn image(image: TextureImage, scale: Rgb, to_world: Mat3) -> Result<Self, String> {
+    /// rotation `to_world`, its cells drawn as `draw` says (by the alias method only for
+    /// independent random numbers: it does not keep stratified ones stratified). An error
+    /// when a pixel is negative or not finite, or the map is black.
+    pub fn image(image: TextureImage, scale: Rgb, to_world: Mat3, draw: Draw) -> Result<Self, String> {
         let (w, h) = (image.width, image.height);
         if w == 0 || h == 0 || image.pixels.len() != w * h {
             return Err(format!("the map has {} pixels, not {w} x {h}", image.pixels.len()));
@@ -86,12 +81,9 @@ impl Environment {
                 (p.luminance() * scale.luminance()).max(0.0) * theta.sin()
             })
             .collect();
-        let texel = |(i, density): (usize, f32)| Texel {
-            radiance: image.pixels[i] * scale,
-            density,
-        };
+        let texel = |(i, _): (usize, f32)| image.pixels[i] * scale;
         let distribution =
-            Distribution2D::with_items(&weights, texel, w, h).ok_or("the map is black: it gives no light")?;
+            Distribution2D::with_items(&weights, texel, w, h, draw).ok_or("the map is black: it gives no light")?;
         let mean_luminance = (solid_angle_integral(&image, |p| p.luminance() as f64) * scale.luminance() as f64
             / (4.0 * PI as f64)) as f32;
         Ok(Environment {
@@ -137,7 +129,7 @@ impl Environment {
     /// [`Environment::lookup`] per lane: the radiance and the density of each direction.
     #[inline(always)]
     fn lookup_lanes<R: Real>(&self, d: V3<R>) -> (V3<R>, R) {
-        let Some((image, distribution)) = &self.image else {
+        let Some((_, distribution)) = &self.image else {
             return (V3::splat_rgb(self.scale), R::splat(1.0 / (4.0 * PI)));
         };
         let (u, v, sin_theta) = self.map_coordinates(d);
@@ -146,27 +138,12 @@ impl Environment {
             distribution.prefetch_at(p);
             []
         });
-        // Each lane's cell: its radiance and 2D density; -1 for a row of zero weight
-        // (never sampled, density 0), whose radiance (black, unless the scale has no
-        // luminance) comes from the image.
-        let [r, g, b, density] = R::map_lanes([u, v], |_, [u, v]| match distribution.item_at([u, v]) {
-            Some(texel) => {
-                let t = &texel.radiance;
-                [t.r, t.g, t.b, texel.density]
-            }
-            None => {
-                let x = ((u * image.width as f32) as usize).min(image.width - 1);
-                let y = ((v * image.height as f32) as usize).min(image.height - 1);
-                let t = image.pixels[y * image.width + x] * self.scale;
-                [t.r, t.g, t.b, -1.0]
-            }
+        // Each lane's cell: its radiance and 2D density.
+        let [r, g, b, density] = R::map_lanes([u, v], |_, [u, v]| {
+            let (density, t) = distribution.item_at([u, v]);
+            [t.r, t.g, t.b, density]
         });
-        let zero = R::splat(0.0);
-        let pdf = R::select(
-            density.cmp_lt(zero),
-            zero,
-            solid_angle_density_lanes(density, sin_theta),
-        );
+        let pdf = solid_angle_density_lanes(density, sin_theta);
         (V3::new(r, g, b), pdf)
     }
 
@@ -336,18 +313,17 @@ impl EnvironmentLanes<'_> {
                 // Every lane's row first, then every lane's guide entries, then every
                 // lane's point: the lanes' reads of their rows (most of a large map is
                 // not in the caches) overlap.
-                let [row, p_row, rest] = R::map_lanes([u.0, u.1], |_, u| {
-                    let (row, p_row, rest) = distribution.sample_row(u);
-                    [row as f32, p_row, rest]
+                let [row, rest] = R::map_lanes([u.0, u.1], |_, u| {
+                    let (row, rest) = distribution.sample_row(u);
+                    [row as f32, rest]
                 });
-                let [] = R::map_lanes([u.0, row, p_row, rest], |_, [u0, row, p_row, rest]| {
-                    distribution.prefetch_in_row(u0, (row as usize, p_row, rest));
+                let [] = R::map_lanes([u.0, row], |_, [u0, row]| {
+                    distribution.prefetch_in_row(u0, row as usize);
                     []
                 });
-                let [x, y, r, g, b, density] = R::map_lanes([u.0, row, p_row, rest], |_, [u0, row, p_row, rest]| {
-                    let ([x, y], _, texel) = distribution.sample_in_row(u0, (row as usize, p_row, rest));
-                    let t = &texel.radiance;
-                    [x, y, t.r, t.g, t.b, texel.density]
+                let [x, y, r, g, b, density] = R::map_lanes([u.0, row, rest], |_, [u0, row, rest]| {
+                    let ([x, y], density, t) = distribution.sample_in_row(u0, (row as usize, rest));
+                    [x, y, t.r, t.g, t.b, density]
                 });
                 let (wi, sin_theta) = env.direction_lanes(x, y);
                 // The radiance and density of the sampled point's own pixel (as Mitsuba's
@@ -459,8 +435,8 @@ mod tests {
     fn sampling_fits_the_density_and_follows_the_map() {
         let rotation = Mat3::from_axis_angle(Vec3::new(0.3, 1.0, 0.2).normalize(), 1.1);
         for (seed, env) in [
-            Environment::image(map(), Rgb::WHITE, Mat3::IDENTITY).unwrap(),
-            Environment::image(map(), Rgb::splat(2.0), rotation).unwrap(),
+            Environment::image(map(), Rgb::WHITE, Mat3::IDENTITY, Draw::Inverted).unwrap(),
+            Environment::image(map(), Rgb::splat(2.0), rotation, Draw::Alias).unwrap(),
             Environment::constant(Rgb::splat(0.7)),
         ]
         .iter()
@@ -506,14 +482,14 @@ mod tests {
 
     #[test]
     fn directions_and_map_coordinates_agree() {
-        let env = Environment::image(map(), Rgb::WHITE, Mat3::from_rotation_y(0.7)).unwrap();
+        let env = Environment::image(map(), Rgb::WHITE, Mat3::from_rotation_y(0.7), Draw::Alias).unwrap();
         for (u, v) in [(0.1f32, 0.2f32), (0.5, 0.5), (0.93, 0.81), (0.0, 0.3)] {
             let (d, _) = env.direction(Vec2::new(u, v));
             let (x, y, _) = env.map_coordinates(V3::from(d));
             assert!((x - u).abs() < 1e-5 && (y - v).abs() < 1e-5, "{u}, {v} -> {x}, {y}");
         }
         // Up is the top row; -z is the left edge (φ = 0), +z the centre column.
-        let up = Environment::image(map(), Rgb::WHITE, Mat3::IDENTITY).unwrap();
+        let up = Environment::image(map(), Rgb::WHITE, Mat3::IDENTITY, Draw::Inverted).unwrap();
         assert!(up.map_coordinates(V3::from(Vec3::Y)).1 < 1e-6);
         assert!(up.map_coordinates(V3::from(Vec3::NEG_Z)).0 < 1e-6);
     }
@@ -522,7 +498,7 @@ mod tests {
     fn bad_maps_are_errors() {
         let mut m = map();
         m.pixels[5] = Rgb::new(f32::NAN, 0.0, 0.0);
-        assert!(Environment::image(m, Rgb::WHITE, Mat3::IDENTITY)
+        assert!(Environment::image(m, Rgb::WHITE, Mat3::IDENTITY, Draw::Inverted)
             .unwrap_err()
             .contains("(5, 0)"));
         let black = TextureImage {
@@ -531,7 +507,7 @@ mod tests {
             height: 2,
             pixels: vec![Rgb::BLACK; 4],
         };
-        assert!(Environment::image(black, Rgb::WHITE, Mat3::IDENTITY)
+        assert!(Environment::image(black, Rgb::WHITE, Mat3::IDENTITY, Draw::Alias)
             .unwrap_err()
             .contains("black"));
     }

@@ -9,6 +9,7 @@ use super::*;
 use crate::texture::TextureImage;
 use crate::Texture;
 use glam::Mat3;
+use penumbra_core::Draw;
 use penumbra_testkit::{assert_within_se, chi2_directions, MeanEstimate, Uniforms};
 
 /// The shading point the lights are seen from, and the scene sphere of lights at infinity.
@@ -133,7 +134,15 @@ fn cases() -> Vec<(&'static str, Light)> {
         (
             "image environment",
             Light::Environment(
-                Environment::image(sky(), Rgb::splat(1.5), Mat3::from_rotation_x(0.7)).expect("a valid map"),
+                Environment::image(sky(), Rgb::splat(1.5), Mat3::from_rotation_x(0.7), Draw::Inverted)
+                    .expect("a valid map"),
+            ),
+        ),
+        (
+            "image environment, alias draw",
+            Light::Environment(
+                Environment::image(sky(), Rgb::splat(1.5), Mat3::from_rotation_x(0.7), Draw::Alias)
+                    .expect("a valid map"),
             ),
         ),
     ]
