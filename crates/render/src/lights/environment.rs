@@ -6,7 +6,9 @@
 //! Mapping (Mitsuba's, y up): the direction (sin φ sin θ, cos θ, −cos φ sin θ) is pixel
 //! (u, v) = (φ / 2π, θ / π) of the image, u across and v down; `rotation` turns the map.
 //! Each pixel is constant over its cell (no filtering), so the sampling density is exactly
-//! proportional to the luminance it samples.
+//! proportional to the luminance it samples. The map's cells are drawn by inverting the
+//! CDFs, or by Walker's alias method when the sampler's numbers are independent
+//! ([`penumbra_core::Draw`]).
 
 use super::lanes::{LaneLightSample, LightGather, LightKernel};
 use super::{disk_origin, disk_pdf, AreaSampling, EmissionSample, LightModel, LightSample, SceneSphere};
@@ -310,9 +312,10 @@ impl EnvironmentLanes<'_> {
             ),
             Some((_, distribution)) => {
                 // Each lane's cell: its point (x, y) in the map, radiance and 2D density.
-                // Every lane's row first, then every lane's guide entries, then every
-                // lane's point: the lanes' reads of their rows (most of a large map is
-                // not in the caches) overlap.
+                // Every lane's row first, then every lane's entries in its row (guide
+                // table or alias slot, by the map's `Draw`), then every lane's point: the
+                // lanes' reads of their rows (most of a large map is not in the caches)
+                // overlap.
                 let [row, rest] = R::map_lanes([u.0, u.1], |_, u| {
                     let (row, rest) = distribution.sample_row(u);
                     [row as f32, rest]
