@@ -2,13 +2,14 @@
 //! meshes given one accelerator each, the top-level accelerator built, lights and camera
 //! set up.
 
-use crate::desc::{CameraKind, EnvironmentDesc, EnvironmentSource, LightDesc, SceneDesc, ShapeKind};
+use crate::desc::{CameraKind, EnvironmentDesc, EnvironmentSource, LightDesc, RenderDesc, SceneDesc, ShapeKind};
 use crate::emitters::area_lights;
 use crate::{Location, SceneError};
 use penumbra_core::{Draw, SamplerKind, Transform};
 use penumbra_geometry::shapes::{Cuboid, Disk, Plane, Quad, Sphere};
 use penumbra_geometry::{GeometryBuilder, Instance, MeshAccel, Shape};
 use penumbra_render::cameras::{Orthographic, Perspective};
+use penumbra_render::integrators::IntegratorKind;
 use penumbra_render::lights::{Directional, Environment, LightSetBuilder, Point, Spot};
 use penumbra_render::materials::{Phong, MAX_NESTING};
 use penumbra_render::texture::TextureImage;
@@ -164,7 +165,7 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
     }
     let environment = match &desc.environment {
         Some(e) => Some(lights.add(Light::Environment(
-            environment(e, desc.render.sampler).map_err(|m| fail(&e.location, &m))?,
+            environment(e, &desc.render).map_err(|m| fail(&e.location, &m))?,
         ))),
         None => None,
     };
@@ -189,10 +190,12 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
 }
 
 /// The environment light `e` describes, its map loaded; the error names the map. Its
-/// cells are drawn by the alias method when `sampler` gives independent numbers (faster,
-/// nothing to keep stratified), else by inverting the CDFs (which keeps a stratified or
-/// low-discrepancy sampler's numbers stratified over the map).
-fn environment(e: &EnvironmentDesc, sampler: SamplerKind) -> Result<Environment, String> {
+/// cells are drawn by the alias method when the render's sampler gives independent
+/// numbers (faster, nothing to keep stratified), else by inverting the CDFs, which keeps a
+/// stratified or low-discrepancy sampler's numbers stratified over the map; and by
+/// inversion for Metropolis light transport whatever the sampler, whose small mutations of
+/// the numbers must stay small steps over the map (Kelemen et al. 2002).
+fn environment(e: &EnvironmentDesc, render: &RenderDesc) -> Result<Environment, String> {
     let (path, octahedral) = match &e.source {
         EnvironmentSource::Constant => return Ok(Environment::constant(e.scale)),
         EnvironmentSource::Image(path) => (path, false),
@@ -220,8 +223,9 @@ fn environment(e: &EnvironmentDesc, sampler: SamplerKind) -> Result<Environment,
     // The map's frame: the transform's rotation (its columns made unit length).
     let m = glam::Mat3::from_mat4(e.transform.m);
     let rotation = glam::Mat3::from_cols(m.x_axis.normalize(), m.y_axis.normalize(), m.z_axis.normalize());
-    let draw = match sampler {
-        SamplerKind::Independent => Draw::Alias,
+    let draw = match (render.sampler, render.integrator) {
+        (_, IntegratorKind::Mlt) => Draw::Inverted,
+        (SamplerKind::Independent, _) => Draw::Alias,
         _ => Draw::Inverted,
     };
     Environment::image(image, e.scale, rotation, draw)
