@@ -1,31 +1,25 @@
 //! A discrete distribution over `n` items with given non-negative weights, sampled by
 //! inverting its cumulative distribution (pbrt-v4 section A.1, "PiecewiseConstant1D",
-//! restricted to the discrete case). Used to pick a light by power or a triangle by area.
-//! The inversion starts from a guide
-//! table (Chen and Asau, "On Generating Random Variates from an Empirical Distribution",
-//! AIIE Transactions 6(2), 1974): the item at each of n equally spaced values of u, so
-//! that a search covers one bucket instead of the whole CDF, with the same result.
-//!
-//! Each item may carry a payload `P` (an environment map's pixel radiance and density),
-//! kept in an array of its own: the search reads only the compact CDF and guide entries,
-//! eight bytes an item, so that a large map's search tables stay in the second-level cache
-//! (a 512 x 256 map's are 1 MB, against 3 MB with the payload beside them), and a sample
-//! then reads its one payload, on which no branch waits.
+//! restricted to the discrete case). Used to pick a light by power or a triangle by area,
+//! and for the rows and cells of an environment map drawn by inversion
+//! ([`crate::Distribution2D`]). The inversion starts from a guide table (Chen and Asau, "On
+//! Generating Random Variates from an Empirical Distribution", AIIE Transactions 6(2),
+//! 1974): the item at each of n equally spaced values of u, so that a search covers one
+//! bucket instead of the whole CDF, with the same result. The CDF and guide entries sit
+//! side by side, eight bytes an item, so that a large map's tables stay compact.
 
 use crate::lanes::Real;
 
 /// Distributions of at most this many items are searched by counting (see `find`).
 const SMALL: usize = 16;
 
-/// Items `0..n` with probability proportional to their weights, each carrying a `P`.
+/// Items `0..n` with probability proportional to their weights.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Distribution1D<P = ()> {
+pub struct Distribution1D {
     /// Entry `i`: the CDF before item `i` (sum of the weights before it, normalized; 1 at
     /// `i = n`) and the guide table's item that u = i / n falls in. Side by side, so that
     /// the guide entry of a bucket and the CDF near it share a cache line.
     table: Vec<Entry>,
-    /// Item `i`'s payload.
-    items: Vec<P>,
     total: f64,
 }
 
@@ -38,21 +32,13 @@ struct Entry {
 impl Distribution1D {
     /// `None` when there are no weights, one is negative or not finite, or all are zero.
     pub fn new(weights: impl IntoIterator<Item = f32>) -> Option<Self> {
-        Distribution1D::with_items(weights.into_iter().map(|w| (w, ())))
-    }
-}
-
-impl<P: Copy> Distribution1D<P> {
-    /// Items given as (weight, payload); `None` as for [`Distribution1D::new`].
-    pub fn with_items(items: impl IntoIterator<Item = (f32, P)>) -> Option<Self> {
-        let (mut sums, mut payloads) = (vec![], vec![]);
+        let mut sums = vec![];
         let mut total = 0f64;
-        for (w, item) in items {
+        for w in weights {
             if !(w.is_finite() && w >= 0.0) {
                 return None;
             }
             sums.push(total);
-            payloads.push(item);
             total += w as f64;
         }
         if total <= 0.0 {
@@ -65,7 +51,6 @@ impl<P: Copy> Distribution1D<P> {
         });
         let mut d = Distribution1D {
             table: table.collect(),
-            items: payloads,
             total,
         };
         let n = d.len();
@@ -127,11 +112,6 @@ impl<P: Copy> Distribution1D<P> {
     /// Probability of item `i`.
     pub fn pmf(&self, i: usize) -> f32 {
         self.table.get(i + 1).map_or(0.0, |hi| hi.cdf - self.cdf(i))
-    }
-
-    /// Item `i`'s payload.
-    pub fn item(&self, i: usize) -> P {
-        self.items[i]
     }
 
     /// The item whose CDF interval holds `u` in [0, 1), its probability, and `u` rescaled to
