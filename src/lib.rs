@@ -25,7 +25,7 @@ pub use penumbra_geometry as geometry;
 pub use penumbra_render as renderer;
 pub use penumbra_scene as scene;
 
-use penumbra_render::integrators::{Integrator, IntegratorOptions};
+use penumbra_render::integrators::Integrator;
 use penumbra_render::{Film, Progress, RenderOptions, RenderResult};
 use penumbra_scene::{build_scene, SceneDesc, SceneError, SourceFile};
 use std::sync::atomic::AtomicBool;
@@ -84,18 +84,7 @@ pub fn render(desc: &SceneDesc, control: RenderControl) -> Result<RenderResult, 
 /// The integrator `desc` names, with its settings (`debug_strategies`: `bdpt` keeps each
 /// strategy's image).
 pub fn integrator(desc: &SceneDesc, debug_strategies: bool) -> Box<dyn Integrator> {
-    let r = &desc.render;
-    r.integrator.create(IntegratorOptions {
-        max_depth: r.max_depth,
-        min_weight: r.min_weight,
-        rr_depth: r.rr_depth,
-        direct: r.direct,
-        debug_strategies,
-        mlt: r.mlt,
-        photon: r.photon,
-        env: r.env,
-        seed: r.seed,
-    })
+    desc.render.integrator(debug_strategies)
 }
 
 /// Builds `desc` and renders it with `integrator` (made by [`integrator`] for this or an

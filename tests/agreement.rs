@@ -152,8 +152,9 @@ fn integrators_agree_on_the_veach_bidirectional_room() {
 /// Under an environment map with a small bright spot (a sun) and a blue upper half: a
 /// diffuse floor, a plastic and a rough metal ball. Light paths start from the map's own
 /// distribution on a disk facing the scene, and camera paths end at infinity. With the
-/// independent sampler, so that both of the map's draws meet here: path, bdpt and sppm
-/// draw its cells by alias tables, mlt by inverting the CDFs (`scene/build.rs`).
+/// independent sampler, so that both of the map's draws meet here: path and bdpt draw its
+/// cells by alias tables, mlt and sppm (numbers of their own) by inverting the CDFs
+/// (`scene/build.rs`).
 #[test]
 fn integrators_agree_under_an_environment_map() {
     let dir = tempfile::tempdir().unwrap();

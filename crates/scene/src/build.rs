@@ -9,7 +9,6 @@ use penumbra_core::{Draw, SamplerKind, Transform};
 use penumbra_geometry::shapes::{Cuboid, Disk, Plane, Quad, Sphere};
 use penumbra_geometry::{GeometryBuilder, Instance, MeshAccel, Shape};
 use penumbra_render::cameras::{Orthographic, Perspective};
-use penumbra_render::integrators::IntegratorKind;
 use penumbra_render::lights::{Directional, Environment, LightSetBuilder, Point, Spot};
 use penumbra_render::materials::{Phong, MAX_NESTING};
 use penumbra_render::texture::TextureImage;
@@ -190,11 +189,12 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
 }
 
 /// The environment light `e` describes, its map loaded; the error names the map. Its
-/// cells are drawn by the alias method when the render's sampler gives independent
-/// numbers (faster, nothing to keep stratified), else by inverting the CDFs, which keeps a
-/// stratified or low-discrepancy sampler's numbers stratified over the map; and by
-/// inversion for Metropolis light transport whatever the sampler, whose small mutations of
-/// the numbers must stay small steps over the map (Kelemen et al. 2002).
+/// cells are drawn by the alias method when the integrator takes the pixel sampler's
+/// numbers and the sampler gives independent ones (faster, nothing to keep stratified);
+/// else by inverting the CDFs, which keeps a stratified or low-discrepancy sampler's
+/// numbers stratified over the map, and keeps near numbers near for an integrator that
+/// draws its own (`Capabilities::own_numbers`: Metropolis' small mutations, Kelemen et
+/// al. 2002; sppm's and smc's Sobol sequences).
 fn environment(e: &EnvironmentDesc, render: &RenderDesc) -> Result<Environment, String> {
     let (path, octahedral) = match &e.source {
         EnvironmentSource::Constant => return Ok(Environment::constant(e.scale)),
@@ -223,9 +223,9 @@ fn environment(e: &EnvironmentDesc, render: &RenderDesc) -> Result<Environment, 
     // The map's frame: the transform's rotation (its columns made unit length).
     let m = glam::Mat3::from_mat4(e.transform.m);
     let rotation = glam::Mat3::from_cols(m.x_axis.normalize(), m.y_axis.normalize(), m.z_axis.normalize());
-    let draw = match (render.sampler, render.integrator) {
-        (_, IntegratorKind::Mlt) => Draw::Inverted,
-        (SamplerKind::Independent, _) => Draw::Alias,
+    let own_numbers = render.integrator(false).capabilities().own_numbers.is_some();
+    let draw = match render.sampler {
+        SamplerKind::Independent if !own_numbers => Draw::Alias,
         _ => Draw::Inverted,
     };
     Environment::image(image, e.scale, rotation, draw)

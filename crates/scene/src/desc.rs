@@ -7,7 +7,7 @@ use glam::Vec3;
 use penumbra_core::{Rgb, SamplerKind, Transform};
 use penumbra_geometry::{AccelKind, TriangleMesh};
 use penumbra_render::cameras::FovAxis;
-use penumbra_render::integrators::{DirectOptions, IntegratorKind};
+use penumbra_render::integrators::{DirectOptions, Integrator, IntegratorKind, IntegratorOptions};
 use penumbra_render::{Filter, Material, Texture};
 use std::sync::Arc;
 
@@ -74,6 +74,24 @@ impl Default for RenderDesc {
             photon: Default::default(),
             env: Default::default(),
         }
+    }
+}
+
+impl RenderDesc {
+    /// The integrator these settings name, with them (`debug_strategies`: `bdpt` keeps each
+    /// strategy's image).
+    pub fn integrator(&self, debug_strategies: bool) -> Box<dyn Integrator> {
+        self.integrator.create(IntegratorOptions {
+            max_depth: self.max_depth,
+            min_weight: self.min_weight,
+            rr_depth: self.rr_depth,
+            direct: self.direct,
+            debug_strategies,
+            mlt: self.mlt,
+            photon: self.photon,
+            env: self.env,
+            seed: self.seed,
+        })
     }
 }
 
