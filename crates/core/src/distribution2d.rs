@@ -61,10 +61,10 @@ impl Distribution2D {
 
 impl<P: Copy> Distribution2D<P> {
     /// The weights as for [`Distribution2D::new`], cell `i` (row-major) carrying
-    /// `item(i, density)`, with `density` the density [`Distribution2D::pdf`] gives there.
+    /// `item(i)` beside its density.
     pub fn with_items(
         weights: &[f32],
-        item: impl Fn((usize, f32)) -> P,
+        item: impl Fn(usize) -> P,
         width: usize,
         height: usize,
         draw: Draw,
@@ -111,7 +111,7 @@ impl<P: Copy> Distribution2D<P> {
         let cells = densities
             .into_iter()
             .enumerate()
-            .map(|(i, density)| (density, item((i, density))))
+            .map(|(i, density)| (density, item(i)))
             .collect();
         Some(Distribution2D {
             tables,
@@ -150,7 +150,7 @@ impl<P: Copy> Distribution2D<P> {
             }
             Tables::Alias { rows, columns } => {
                 let (y, rest) = alias::sample(rows, u[1]);
-                let row = &columns[y * self.width..(y + 1) * self.width];
+                let row = self.row_slots(columns, y);
                 crate::simd::prefetch(&row[alias::slot(row, u[0]).0]);
                 (y, rest)
             }
@@ -169,7 +169,7 @@ impl<P: Copy> Distribution2D<P> {
                 }
             }
             Tables::Alias { columns, .. } => {
-                let (x, _) = alias::sample(&columns[y * self.width..(y + 1) * self.width], u0);
+                let (x, _) = alias::sample(self.row_slots(columns, y), u0);
                 crate::simd::prefetch(&self.cells[y * self.width + x]);
             }
         }
@@ -186,7 +186,7 @@ impl<P: Copy> Distribution2D<P> {
                 let (x, _, rest) = row.sample(u0);
                 (x, rest)
             }
-            Tables::Alias { columns, .. } => alias::sample(&columns[y * self.width..(y + 1) * self.width], u0),
+            Tables::Alias { columns, .. } => alias::sample(self.row_slots(columns, y), u0),
         };
         // Kept inside the chosen cell (x + rest can round up to the next one).
         let within =
@@ -194,6 +194,12 @@ impl<P: Copy> Distribution2D<P> {
         let point = [within(x, rest_x, self.width), within(y, rest_y, self.height)];
         let (density, item) = self.cells[y * self.width + x];
         (point, density, item)
+    }
+
+    /// Row `y`'s alias slots among `columns`.
+    #[inline(always)]
+    fn row_slots<'t>(&self, columns: &'t [AliasEntry], y: usize) -> &'t [AliasEntry] {
+        &columns[y * self.width..(y + 1) * self.width]
     }
 
     /// The cell holding point `p` of the unit square, as its index.

@@ -83,7 +83,7 @@ impl Environment {
                 (p.luminance() * scale.luminance()).max(0.0) * theta.sin()
             })
             .collect();
-        let texel = |(i, _): (usize, f32)| image.pixels[i] * scale;
+        let texel = |i: usize| image.pixels[i] * scale;
         let distribution =
             Distribution2D::with_items(&weights, texel, w, h, draw).ok_or("the map is black: it gives no light")?;
         let mean_luminance = (solid_angle_integral(&image, |p| p.luminance() as f64) * scale.luminance() as f64

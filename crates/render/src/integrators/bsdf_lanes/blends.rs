@@ -140,9 +140,8 @@ fn blend_of<'s>(sh: &impl BsdfPoint<'s>) -> (Blend<'s>, impl Fn(Vec3) -> Vec3) {
 
 /// What a blend point asks of its parts in the first round.
 struct Plan {
-    /// The blend's weight of part b, and the parts' weights, 1 - w and w.
+    /// The blend's weight of part b.
     weight: f32,
-    weights: [f32; 2],
     /// The part chosen for the sample, if the point wants one.
     chosen: Option<usize>,
     /// `u_lobe` rescaled for the chosen part.
@@ -150,6 +149,13 @@ struct Plan {
     /// The light's direction and `wo` as the parts see them.
     light: Option<Vec3>,
     wo: Vec3,
+}
+
+impl Plan {
+    /// The parts' weights, 1 - w and w (the floats `answer_blends` chose the part by).
+    fn weights(&self) -> [f32; 2] {
+        [1.0 - self.weight, self.weight]
+    }
 }
 
 /// Asks of one round: the parts, what each is asked, and the answers.
@@ -212,7 +218,6 @@ pub(super) fn answer_blends<'s, P: BsdfPoint<'s>>(
         bsdfs.push([needed(0, wa), needed(1, wb)]);
         plans.push(Plan {
             weight: b.weight,
-            weights: [wa, wb],
             chosen,
             u_lobe: part_lobe(q.u_lobe, (wa, wb), take_a),
             light: q.light.map(|(l, _)| side(l)),
@@ -226,7 +231,7 @@ pub(super) fn answer_blends<'s, P: BsdfPoint<'s>>(
     let mut asked = Vec::with_capacity(points.len());
     for (&i, (plan, part_bsdfs)) in points.iter().zip(plans.iter().zip(&bsdfs)) {
         let mut at = [None; 2];
-        for (k, w) in plan.weights.into_iter().enumerate() {
+        for (k, w) in plan.weights().into_iter().enumerate() {
             let sample = plan.chosen == Some(k);
             if let Some(bsdf) = part_bsdfs[k]
                 .as_ref()
@@ -251,7 +256,7 @@ pub(super) fn answer_blends<'s, P: BsdfPoint<'s>>(
         let mut at2 = [None; 2];
         let sampled = plan.chosen.and_then(|k| first.get(at[k])).and_then(|a| a.sample);
         if let Some(s) = sampled.filter(|s| !s.delta) {
-            for (k, w) in plan.weights.into_iter().enumerate() {
+            for (k, w) in plan.weights().into_iter().enumerate() {
                 if let Some(bsdf) = part_bsdfs[k].as_ref().filter(|_| w > 0.0) {
                     let query = BsdfQuery {
                         light: Some((s.wi, true)),
