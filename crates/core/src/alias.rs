@@ -6,8 +6,10 @@
 //! with probability `q[i]` and otherwise gives its alias; every item's share of the slots
 //! adds up to its weight over the total. [`crate::Distribution2D`] samples an
 //! environment map's cells this way: no search, so no branch for a random number to
-//! mispredict, and two reads of memory (the slot, then the item's payload).
+//! mispredict, and two reads of memory (the slot, then the item's payload), made in the
+//! lanes of a SIMD type as in one ([`sample_lanes`]).
 
+use crate::lanes::Real;
 use crate::samplers::ONE_MINUS_EPSILON;
 
 /// One slot of an alias table: the probability of keeping the slot's own item, and the
@@ -63,28 +65,55 @@ pub fn build(weights: &[f64]) -> Option<Vec<AliasEntry>> {
     Some(slots)
 }
 
-/// The slot `u` in [0, 1) falls in, and `u`'s fraction within that slot: the first step of
-/// [`sample`], apart so that callers interleaving several draws can ask the caches for
-/// the slot first.
-#[inline(always)]
-pub fn slot(slots: &[AliasEntry], u: f32) -> (usize, f32) {
-    let n = slots.len();
-    let scaled = u * n as f32;
-    let i = (scaled as usize).min(n - 1);
-    (i, (scaled - i as f32).min(ONE_MINUS_EPSILON))
-}
-
 /// The item drawn with `u` in [0, 1), and `u` rescaled to [0, 1) within the share of the
-/// slot that gave it (so that the one number can serve again, as with an inverted CDF).
+/// slot that gave it (so that the one number can serve again, as with an inverted CDF):
+/// the one-lane instance of [`sample_lanes`].
 #[inline(always)]
 pub fn sample(slots: &[AliasEntry], u: f32) -> (usize, f32) {
-    let (i, f) = slot(slots, u);
-    let e = slots[i];
+    let (item, rest) = sample_lanes(slots.len(), u, 0.0, |_, _| {}, |_, i| slots[i]);
+    (item as usize, rest)
+}
+
+/// [`sample`] in the lanes of `R`, the same floats lane by lane: each lane draws from
+/// the slots of its own `table` (any number the closures understand, e.g. a row of a
+/// larger table), `n` slots each; `read(table, slot)` gives a slot. The item comes back as
+/// a float (exact below 2^24 items), with the rescaled number. `prefetch(table, slot)` is
+/// called for every lane before any `read`, so that the lanes' reads of a table not in
+/// the caches overlap.
+#[inline(always)]
+pub fn sample_lanes<R: Real>(
+    n: usize,
+    u: R,
+    table: R,
+    prefetch: impl Fn(f32, usize),
+    read: impl Fn(f32, usize) -> AliasEntry,
+) -> (R, R) {
+    // `slot`: the truncation of a non-negative number is its floor.
+    let scaled = u * R::splat(n as f32);
+    let last = R::splat((n - 1) as f32);
+    let i = scaled.floor();
+    let i = R::select(i.cmp_lt(last), i, last);
+    let f = min(scaled - i, R::splat(ONE_MINUS_EPSILON));
+    let [] = R::map_lanes([table, i], |_, [t, i]| {
+        prefetch(t, i as usize);
+        []
+    });
+    let [keep, alias] = R::map_lanes([table, i], |_, [t, i]| {
+        let e = read(t, i as usize);
+        [e.keep, e.alias as f32]
+    });
     // Selects, not branches: which side of `keep` a random `f` falls is a coin toss.
-    let kept = f < e.keep;
-    let item = if kept { i } else { e.alias as usize };
-    let (lo, width) = if kept { (0.0, e.keep) } else { (e.keep, 1.0 - e.keep) };
-    (item, ((f - lo) / width).min(ONE_MINUS_EPSILON))
+    let kept = f.cmp_lt(keep);
+    let item = R::select(kept, i, alias);
+    let lo = R::select(kept, R::splat(0.0), keep);
+    let width = R::select(kept, keep, R::splat(1.0) - keep);
+    (item, min((f - lo) / width, R::splat(ONE_MINUS_EPSILON)))
+}
+
+/// `f32::min` of a number that is not NaN and a constant, per lane.
+#[inline(always)]
+fn min<R: Real>(x: R, c: R) -> R {
+    R::select(x.cmp_lt(c), x, c)
 }
 
 #[cfg(test)]

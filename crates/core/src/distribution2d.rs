@@ -15,7 +15,17 @@
 //! pixel radiance), so that a sample's answer is one read.
 
 use crate::alias::{self, AliasEntry};
+use crate::lanes::Real;
 use crate::Distribution1D;
+
+/// Where [`Distribution2D::sample_lanes`] lands in each lane: the cell's column and row
+/// (as floats, exact below 2^24) and the point of the unit square within the cell.
+#[derive(Clone, Copy, Debug)]
+pub struct CellLanes<R> {
+    pub x: R,
+    pub y: R,
+    pub point: [R; 2],
+}
 
 /// How a [`Distribution2D`] draws its rows and cells.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -127,83 +137,90 @@ impl<P: Copy> Distribution2D<P> {
         (point, density)
     }
 
-    /// [`Distribution2D::sample`] with the payload of the cell the point lies in (one
-    /// sample alone: the steps' prefetches serve only lanes that interleave them).
+    /// [`Distribution2D::sample`] with the payload of the cell the point lies in: the
+    /// one-lane instance of [`Distribution2D::sample_lanes`] and [`Distribution2D::cell`].
     pub fn sample_item(&self, u: [f32; 2]) -> ([f32; 2], f32, P) {
-        self.sample_in_row(u[0], self.sample_row(u))
+        let c = self.sample_lanes((u[0], u[1]));
+        let (density, item) = self.cell(c.x as usize, c.y as usize);
+        (c.point, density, item)
     }
 
-    /// The first step of [`Distribution2D::sample_item`]: the row `u[1]` draws and `u[1]`
-    /// rescaled within its share, having asked the caches for what
-    /// [`Distribution2D::prefetch_in_row`] with `u[0]` reads in that row. Lanes that take
-    /// every step for all lanes before the next wait on their memory together: a large
-    /// map's tables are not in the caches, and each step's reads depend on the step before.
-    #[inline]
-    pub fn sample_row(&self, u: [f32; 2]) -> (usize, f32) {
-        match &self.tables {
+    /// The cells `u` draws in the lanes of `R` (`u.1` the row, `u.0` the cell within it)
+    /// and the points within them: the same floats in every lane as in one. Each step's
+    /// reads are made for every lane after all of its lanes' reads were asked of the
+    /// caches (a large map's tables are not in them, and each step's reads depend on the
+    /// step before): the alias draw's arithmetic in SIMD, its slots read lane by lane; the
+    /// inverted draw's searches lane by lane. The caller reads the cells' densities and
+    /// payloads the same way ([`Distribution2D::prefetch_cell`], [`Distribution2D::cell`]).
+    #[inline(always)]
+    pub fn sample_lanes<R: Real>(&self, u: (R, R)) -> CellLanes<R> {
+        let (x, rest_x, y, rest_y) = match &self.tables {
             Tables::Inverted { marginal, rows } => {
-                let (y, _, rest) = marginal.sample(u[1]);
-                if let Some(row) = &rows[y] {
-                    row.prefetch_guide(u[0]);
-                }
-                (y, rest)
+                let [y, rest_y] = R::map_lanes([u.0, u.1], |_, [u0, u1]| {
+                    let (y, _, rest) = marginal.sample(u1);
+                    if let Some(row) = &rows[y] {
+                        row.prefetch_guide(u0);
+                    }
+                    [y as f32, rest]
+                });
+                let [] = R::map_lanes([u.0, y], |_, [u0, y]| {
+                    if let Some(row) = &rows[y as usize] {
+                        row.prefetch_sample(u0);
+                    }
+                    []
+                });
+                let [x, rest_x] = R::map_lanes([u.0, y], |_, [u0, y]| {
+                    let row = rows[y as usize].as_ref().expect("rows of zero weight are never chosen");
+                    let (x, _, rest) = row.sample(u0);
+                    [x as f32, rest]
+                });
+                (x, rest_x, y, rest_y)
             }
             Tables::Alias { rows, columns } => {
-                let (y, rest) = alias::sample(rows, u[1]);
-                let row = self.row_slots(columns, y);
-                crate::simd::prefetch(&row[alias::slot(row, u[0]).0]);
-                (y, rest)
+                // The rows' table is small (one slot per row): no prefetch.
+                let (y, rest_y) = alias::sample_lanes(self.height, u.1, R::splat(0.0), |_, _| {}, |_, i| rows[i]);
+                let w = self.width;
+                let (x, rest_x) = alias::sample_lanes(
+                    w,
+                    u.0,
+                    y,
+                    |y, i| crate::simd::prefetch(&columns[y as usize * w + i]),
+                    |y, i| columns[y as usize * w + i],
+                );
+                (x, rest_x, y, rest_y)
             }
-        }
-    }
-
-    /// The second step of [`Distribution2D::sample_item`] taken in lanes (a sample alone
-    /// skips it): asks the caches for what [`Distribution2D::sample_in_row`] with `u0`
-    /// reads in row `y` (the ends of its guide bucket, or the drawn cell).
-    #[inline]
-    pub fn prefetch_in_row(&self, u0: f32, y: usize) {
-        match &self.tables {
-            Tables::Inverted { rows, .. } => {
-                if let Some(row) = &rows[y] {
-                    row.prefetch_sample(u0);
-                }
-            }
-            Tables::Alias { columns, .. } => {
-                let (x, _) = alias::sample(self.row_slots(columns, y), u0);
-                crate::simd::prefetch(&self.cells[y * self.width + x]);
-            }
-        }
-    }
-
-    /// The last step of [`Distribution2D::sample_item`]: the point in the row `picked`
-    /// ([`Distribution2D::sample_row`]'s answer) that `u0` draws, its density and payload.
-    #[inline]
-    pub fn sample_in_row(&self, u0: f32, picked: (usize, f32)) -> ([f32; 2], f32, P) {
-        let (y, rest_y) = picked;
-        let (x, rest_x) = match &self.tables {
-            Tables::Inverted { rows, .. } => {
-                let row = rows[y].as_ref().expect("rows of zero weight are never chosen");
-                let (x, _, rest) = row.sample(u0);
-                (x, rest)
-            }
-            Tables::Alias { columns, .. } => alias::sample(self.row_slots(columns, y), u0),
         };
-        // Kept inside the chosen cell (x + rest can round up to the next one).
-        let within =
-            |i: usize, rest: f32, n: usize| ((i as f32 + rest) / n as f32).min(((i + 1) as f32 / n as f32).next_down());
-        let point = [within(x, rest_x, self.width), within(y, rest_y, self.height)];
-        let (density, item) = self.cells[y * self.width + x];
-        (point, density, item)
+        // Kept inside the chosen cell (i + rest can round up to the next one).
+        let (nx, ny) = (R::splat(self.width as f32), R::splat(self.height as f32));
+        let one = R::splat(1.0);
+        let [last_x, last_y] = R::map_lanes([(x + one) / nx, (y + one) / ny], |_, [a, b]| {
+            [a.next_down(), b.next_down()]
+        });
+        let within = |i: R, rest: R, n: R, last: R| {
+            let p = (i + rest) / n;
+            R::select(p.cmp_lt(last), p, last)
+        };
+        CellLanes {
+            x,
+            y,
+            point: [within(x, rest_x, nx, last_x), within(y, rest_y, ny, last_y)],
+        }
     }
 
-    /// Row `y`'s alias slots among `columns`.
+    /// Asks the caches for cell (`x`, `y`), which [`Distribution2D::cell`] reads.
     #[inline(always)]
-    fn row_slots<'t>(&self, columns: &'t [AliasEntry], y: usize) -> &'t [AliasEntry] {
-        &columns[y * self.width..(y + 1) * self.width]
+    pub fn prefetch_cell(&self, x: usize, y: usize) {
+        crate::simd::prefetch(&self.cells[y * self.width + x]);
+    }
+
+    /// The density and payload of cell (`x`, `y`).
+    #[inline(always)]
+    pub fn cell(&self, x: usize, y: usize) -> (f32, P) {
+        self.cells[y * self.width + x]
     }
 
     /// The cell holding point `p` of the unit square, as its index.
-    fn cell(&self, p: [f32; 2]) -> usize {
+    fn cell_index(&self, p: [f32; 2]) -> usize {
         let x = ((p[0] * self.width as f32) as usize).min(self.width - 1);
         let y = ((p[1] * self.height as f32) as usize).min(self.height - 1);
         y * self.width + x
@@ -211,18 +228,18 @@ impl<P: Copy> Distribution2D<P> {
 
     /// The density at point `p` of the unit square.
     pub fn pdf(&self, p: [f32; 2]) -> f32 {
-        self.cells[self.cell(p)].0
+        self.cells[self.cell_index(p)].0
     }
 
     /// Asks the caches for the cell [`Distribution2D::item_at`] reads for `p`.
     #[inline]
     pub fn prefetch_at(&self, p: [f32; 2]) {
-        crate::simd::prefetch(&self.cells[self.cell(p)]);
+        crate::simd::prefetch(&self.cells[self.cell_index(p)]);
     }
 
     /// The density and payload of the cell holding point `p`.
     pub fn item_at(&self, p: [f32; 2]) -> (f32, P) {
-        self.cells[self.cell(p)]
+        self.cells[self.cell_index(p)]
     }
 }
 
@@ -256,6 +273,38 @@ mod tests {
                 "u {u}: {by_row:?} {by_column:?}"
             );
             last = [by_column[0], by_row[1]];
+        }
+    }
+
+    /// Eight lanes draw the cells and points that one lane draws, bit for bit, by either
+    /// draw (numbers at the ends of [0, 1) included; `F8Avx` gives `F8`'s bits, its own
+    /// test).
+    #[test]
+    fn lanes_draw_what_one_lane_draws() {
+        use crate::lanes::{Lane8, F8};
+        let (w, h) = (37, 11);
+        let weights: Vec<f32> = (0..w * h).map(|i| ((i * 7919) % 13) as f32 * (i % 5) as f32).collect();
+        let mut rng = crate::Pcg32::new(3, 7);
+        let ends = [0.0, crate::samplers::ONE_MINUS_EPSILON, 0.5];
+        for draw in [Draw::Inverted, Draw::Alias] {
+            let d = Distribution2D::with_items(&weights, |i| i as u32, w, h, draw).unwrap();
+            for round in 0..2_000 {
+                let u: [[f32; 2]; 8] = std::array::from_fn(|k| match (round * 8 + k) % 11 {
+                    0 => [ends[k % 3], rng.next_f32()],
+                    1 => [rng.next_f32(), ends[k % 3]],
+                    _ => [rng.next_f32(), rng.next_f32()],
+                });
+                let c = d.sample_lanes((F8::from_array(u.map(|u| u[0])), F8::from_array(u.map(|u| u[1]))));
+                let (x, y) = (c.x.to_array(), c.y.to_array());
+                let point = c.point.map(F8::to_array);
+                for k in 0..8 {
+                    let (p, density, item) = d.sample_item(u[k]);
+                    let lane = [point[0][k], point[1][k]];
+                    assert_eq!(lane.map(f32::to_bits), p.map(f32::to_bits), "{draw:?} u {:?}", u[k]);
+                    assert_eq!(d.cell(x[k] as usize, y[k] as usize), (density, item), "{draw:?} u {:?}", u[k]);
+                    assert!(density > 0.0, "{draw:?}: a cell of zero weight drawn");
+                }
+            }
         }
     }
 

@@ -311,23 +311,19 @@ impl EnvironmentLanes<'_> {
                 R::splat(1.0 / (4.0 * PI)),
             ),
             Some((_, distribution)) => {
-                // Each lane's cell: its point (x, y) in the map, radiance and 2D density.
-                // Every lane's row first, then every lane's entries in its row (guide
-                // table or alias slot, by the map's `Draw`), then every lane's point: the
-                // lanes' reads of their rows (most of a large map is not in the caches)
-                // overlap.
-                let [row, rest] = R::map_lanes([u.0, u.1], |_, u| {
-                    let (row, rest) = distribution.sample_row(u);
-                    [row as f32, rest]
-                });
-                let [] = R::map_lanes([u.0, row], |_, [u0, row]| {
-                    distribution.prefetch_in_row(u0, row as usize);
+                // Each lane's cell and point in the map, then the cell's radiance and 2D
+                // density, each step's reads made for all lanes together (most of a large
+                // map is not in the caches).
+                let c = distribution.sample_lanes(u);
+                let [] = R::map_lanes([c.x, c.y], |_, [x, y]| {
+                    distribution.prefetch_cell(x as usize, y as usize);
                     []
                 });
-                let [x, y, r, g, b, density] = R::map_lanes([u.0, row, rest], |_, [u0, row, rest]| {
-                    let ([x, y], density, t) = distribution.sample_in_row(u0, (row as usize, rest));
-                    [x, y, t.r, t.g, t.b, density]
+                let [r, g, b, density] = R::map_lanes([c.x, c.y], |_, [x, y]| {
+                    let (density, t) = distribution.cell(x as usize, y as usize);
+                    [t.r, t.g, t.b, density]
                 });
+                let [x, y] = c.point;
                 let (wi, sin_theta) = env.direction_lanes(x, y);
                 // The radiance and density of the sampled point's own pixel (as Mitsuba's
                 // `envmap` takes them): no mapping of the direction back to the map. The
