@@ -301,7 +301,12 @@ mod tests {
                     let (p, density, item) = d.sample_item(u[k]);
                     let lane = [point[0][k], point[1][k]];
                     assert_eq!(lane.map(f32::to_bits), p.map(f32::to_bits), "{draw:?} u {:?}", u[k]);
-                    assert_eq!(d.cell(x[k] as usize, y[k] as usize), (density, item), "{draw:?} u {:?}", u[k]);
+                    assert_eq!(
+                        d.cell(x[k] as usize, y[k] as usize),
+                        (density, item),
+                        "{draw:?} u {:?}",
+                        u[k]
+                    );
                     assert!(density > 0.0, "{draw:?}: a cell of zero weight drawn");
                 }
             }

@@ -219,13 +219,12 @@ impl PathTracer {
         let lanes = self.lanes.read();
         for depth in 0.. {
             // Closest hits of every live path.
+            // Without a branch: which paths ended is a coin toss for the predictor.
             let mut still = 0;
             for j in 0..count {
                 let i = live[j];
-                if paths[i].alive {
-                    live[still] = i;
-                    still += 1;
-                }
+                live[still] = i;
+                still += paths[i].alive as usize;
             }
             count = still;
             if count == 0 {
