@@ -149,21 +149,22 @@ impl Triangle4 {
         Lanes {
             mask: valid.bitmask() & active & !fallback,
             fallback,
-            t,
-            b1: e1 * inv_det,
-            b2: e2 * inv_det,
+            t: t.to_array(),
+            b1: (e1 * inv_det).to_array(),
+            b2: (e2 * inv_det).to_array(),
         }
     }
 }
 
 /// What the SIMD part of the test found: the active lanes hit (`mask`), the lanes that need
-/// the scalar test, and every lane's distance and barycentrics.
+/// the scalar test, and every lane's distance and barycentrics (arrays: a `Vec4` indexed
+/// by a lane number is a jump table, its target a coin toss for the predictor).
 struct Lanes {
     mask: u32,
     fallback: u32,
-    t: Vec4,
-    b1: Vec4,
-    b2: Vec4,
+    t: [f32; 4],
+    b1: [f32; 4],
+    b2: [f32; 4],
 }
 
 #[cfg(test)]
