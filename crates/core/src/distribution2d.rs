@@ -196,10 +196,13 @@ impl<P: Copy> Distribution2D<P> {
         let [last_x, last_y] = R::map_lanes([(x + one) / nx, (y + one) / ny], |_, [a, b]| {
             [a.next_down(), b.next_down()]
         });
-        let within = |i: R, rest: R, n: R, last: R| {
+        // A function, not a closure: a closure making lane values may be compiled apart
+        // from its caller's SIMD level.
+        #[inline(always)]
+        fn within<R: Real>(i: R, rest: R, n: R, last: R) -> R {
             let p = (i + rest) / n;
             R::select(p.cmp_lt(last), p, last)
-        };
+        }
         CellLanes {
             x,
             y,
