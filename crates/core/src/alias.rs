@@ -66,15 +66,8 @@ pub fn build(weights: &[f64]) -> Option<Vec<AliasEntry>> {
 }
 
 /// The item drawn with `u` in [0, 1), and `u` rescaled to [0, 1) within the share of the
-/// slot that gave it (so that the one number can serve again, as with an inverted CDF):
-/// the one-lane instance of [`sample_lanes`].
-#[inline(always)]
-pub fn sample(slots: &[AliasEntry], u: f32) -> (usize, f32) {
-    let (item, rest) = sample_lanes(slots.len(), u, 0.0, |_, _| {}, |_, i| slots[i]);
-    (item as usize, rest)
-}
-
-/// [`sample`] in the lanes of `R`, the same floats lane by lane: each lane draws from
+/// slot that gave it (so that the one number can serve again, as with an inverted CDF),
+/// in the lanes of `R`, the same floats in every lane as in one: each lane draws from
 /// the slots of its own `table` (any number the closures understand, e.g. a row of a
 /// larger table), `n` slots each; `read(table, slot)` gives a slot. The item comes back as
 /// a float (exact below 2^24 items), with the rescaled number. `prefetch(table, slot)` is
@@ -119,6 +112,12 @@ fn min<R: Real>(x: R, c: R) -> R {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// One draw from `slots`, in one lane.
+    fn sample(slots: &[AliasEntry], u: f32) -> (usize, f32) {
+        let (item, rest) = sample_lanes(slots.len(), u, 0.0, |_, _| {}, |_, i| slots[i]);
+        (item as usize, rest)
+    }
 
     /// Each item's share of the slots is its probability, exactly up to rounding.
     fn shares(slots: &[AliasEntry]) -> Vec<f64> {
