@@ -163,16 +163,31 @@ impl<P: PrimitiveSet> Bvh<P> {
                         current = entry(first);
                         continue;
                     }
+                    // A node's child lane asked of the caches: an interior child's node (a
+                    // leaf's lane asks for the root's, which is in cache), by a select.
+                    let ahead = |lane: usize| (node.count[lane] == 0) as usize * node.child[lane] as usize;
+                    if NEAREST_FIRST && mask & (mask - 1) == 0 {
+                        // Two children hit, the common case: the nearer becomes the current
+                        // node and the farther is pushed, chosen by selects rather than a
+                        // branch on the distances (of equal ones the higher lane is nearer,
+                        // as in the sorted push below).
+                        let second = mask.trailing_zeros() as usize;
+                        let swap = t0[first] < t0[second];
+                        let (near, far) = if swap { (first, second) } else { (second, first) };
+                        prefetch(&self.nodes[ahead(far)]);
+                        refs[top].write(entry(far));
+                        dists[top].write(t0[far]);
+                        top += 1;
+                        current = entry(near);
+                        continue;
+                    }
                     // Push every hit child, keeping the pushed run sorted by decreasing
                     // distance; then the nearest, on top, becomes the current node.
                     let start = top;
                     let mut lane = first;
                     loop {
                         let (r, d) = (entry(lane), t0[lane]);
-                        // An interior child's node is asked for (a leaf's lane asks for
-                        // the root's, which is in cache): a select, not a branch.
-                        let ahead = (node.count[lane] == 0) as usize * node.child[lane] as usize;
-                        prefetch(&self.nodes[ahead]);
+                        prefetch(&self.nodes[ahead(lane)]);
                         let mut k = top;
                         if NEAREST_FIRST {
                             // SAFETY: slots below `top` were written.
