@@ -8,8 +8,11 @@
 //! shapes (a ground quad under spheres), one structure over the shapes' set with the
 //! triangles in it, so that a ray walks one structure, not two.
 
-use crate::accel::{build_accel, closest_of_two, occluded_by_either, Accel, AccelKind, PrimitiveSet, TraversalStats};
+use crate::accel::{
+    build_accel, closest_of_two, occluded_by_either, Accel, AccelKind, PrimitiveSet, TraversalStats, PAD,
+};
 use crate::instance::{triangle_surface, MeshTriangles};
+use crate::object_set::ObjectSet;
 use crate::shapes::triangle::{intersect_triangle_prepared, TriangleRay};
 use crate::shapes::triangle_box::{triangle_clipped_bounds, triangle_overlaps_box};
 use crate::{Hit, Instance, Shape, SurfaceHit, TriangleMesh};
@@ -22,6 +25,14 @@ use std::sync::Arc;
 enum Prim {
     Shape(u32),
     Instance(u32),
+}
+
+/// What a slot of [`ObjectSet`]'s packets holds.
+pub(crate) enum PacketPrim {
+    Pad,
+    Sphere(Vec3, f32),
+    Triangle([Vec3; 3]),
+    Other,
 }
 
 /// All primitives of a scene, each tagged with the scene object it belongs to.
@@ -118,11 +129,12 @@ impl Geometry {
     /// `prim = shapes and instances + pooled triangle`.
     pub fn accel(self: &Arc<Self>, kind: AccelKind) -> Box<dyn Accel> {
         if self.inline_triangles {
-            return build_accel(kind, self.clone());
+            return build_accel(kind, Arc::new(ObjectSet::new(self.clone())));
         }
         let triangles = (!self.pooled.indices.is_empty())
             .then(|| build_accel(kind, Arc::new(MeshTriangles::new(self.pooled.clone()))));
-        let objects = (!self.prims.is_empty() || triangles.is_none()).then(|| build_accel(kind, self.clone()));
+        let objects = (!self.prims.is_empty() || triangles.is_none())
+            .then(|| build_accel(kind, Arc::new(ObjectSet::new(self.clone()))));
         match (triangles, objects) {
             // Only triangles, numbered from 0: their structure answers alone.
             (Some(triangles), None) => triangles,
@@ -180,6 +192,26 @@ impl Geometry {
     /// [`Geometry::pooled_index`].
     pub fn meshes(&self) -> &[(TriangleMesh, u32)] {
         &self.meshes
+    }
+
+    /// What primitive `i` of the set is to the packets of [`ObjectSet`]: a round sphere
+    /// (world centre and radius), a triangle, or a kind tested one by one.
+    pub(crate) fn packet_prim(&self, i: u32) -> PacketPrim {
+        if i == PAD {
+            return PacketPrim::Pad;
+        }
+        if let Some(tri) = self.inline_triangle(i) {
+            return PacketPrim::Triangle(tri);
+        }
+        match self.prims[i as usize] {
+            Prim::Shape(s) => match &self.shapes[s as usize].0 {
+                Shape::Sphere(sphere) => sphere
+                    .world_round()
+                    .map_or(PacketPrim::Other, |(centre, radius)| PacketPrim::Sphere(centre, radius)),
+                _ => PacketPrim::Other,
+            },
+            Prim::Instance(_) => PacketPrim::Other,
+        }
     }
 
     /// Pooled triangle `i - prims.len()` of the set's primitive `i`, for a set with its

@@ -10,6 +10,7 @@ mod geometry;
 mod hit;
 pub mod instance;
 mod mesh;
+mod object_set;
 mod placement;
 pub mod shapes;
 pub mod triangle_lanes;

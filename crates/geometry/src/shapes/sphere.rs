@@ -35,6 +35,12 @@ impl Sphere {
         })
     }
 
+    /// Centre and radius in world space, when the sphere is round there (see
+    /// [`Sphere::intersect`]).
+    pub fn world_round(&self) -> Option<(Vec3, f32)> {
+        self.round
+    }
+
     pub fn bounds(&self) -> Aabb {
         self.placement.bounds(Aabb::new(Vec3::splat(-1.0), Vec3::ONE))
     }
