@@ -316,7 +316,7 @@ mod tests {
         for i in 0..14 {
             let c = point(rng, 6.0);
             let shape = match i % 7 {
-                0 | 1 | 2 => Shape::Sphere(Sphere::new(c, 0.2 + rng.next_f32(), &Transform::IDENTITY).unwrap()),
+                0..=2 => Shape::Sphere(Sphere::new(c, 0.2 + rng.next_f32(), &Transform::IDENTITY).unwrap()),
                 3 => Shape::Sphere(Sphere::new(Vec3::ONE, 0.5, &Transform::IDENTITY).unwrap()),
                 4 => Shape::Sphere(Sphere::new(c, 0.5, &squash).unwrap()),
                 _ => Shape::Quad(Quad::new(c, point(rng, 3.0), point(rng, 3.0), &Transform::IDENTITY).unwrap()),
@@ -360,7 +360,7 @@ mod tests {
                 let origin = point(&mut rng, 16.0);
                 let ray = Ray::new(origin, point(&mut rng, 6.0) - origin);
                 let data = TriangleRay::new(&ray);
-                let t_max = if rng.next_u32() % 4 == 0 {
+                let t_max = if rng.next_u32().is_multiple_of(4) {
                     rng.next_f32() * 12.0
                 } else {
                     f32::INFINITY

@@ -1,24 +1,31 @@
-//! Independent uniform random numbers: a hash of the pixel, dimension and sample index.
+//! Independent uniform random numbers: SplitMix64 (Steele, Lea and Flood, "Fast Splittable
+//! Pseudorandom Number Generators", OOPSLA 2014) over the dimensions of one pixel sample,
+//! its sequence seeded by the hashes of the pixel and of the sample index: one 64-bit mix
+//! per draw, a pure function of (seed, pixel, sample index, dimension).
 
-use super::Key;
 use crate::hash::{mix64, u32_to_unit};
 use crate::simd::Level;
 use glam::Vec2;
 
-#[inline]
-pub(super) fn sample_1d(key: &Key) -> f32 {
-    u32_to_unit(bits(key) as u32)
+/// SplitMix64's increment, the odd integer nearest 2^64 / golden ratio.
+const GAMMA: u64 = 0x9E37_79B9_7F4A_7C15;
+
+/// The 64 bits of dimension `d` of the sample keyed `key` (the pixel's hash xor the
+/// sample index's): SplitMix64's output at step `d + 1` of the sequence seeded with `key`.
+#[inline(always)]
+fn bits(key: u64, d: u32) -> u64 {
+    mix64(key.wrapping_add((d as u64 + 1).wrapping_mul(GAMMA)))
 }
 
 #[inline]
-pub(super) fn sample_2d(key: &Key) -> Vec2 {
-    let b = bits(key);
+pub(super) fn sample_1d(key: u64, d: u32) -> f32 {
+    u32_to_unit(bits(key, d) as u32)
+}
+
+#[inline]
+pub(super) fn sample_2d(key: u64, d: u32) -> Vec2 {
+    let b = bits(key, d);
     Vec2::new(u32_to_unit(b as u32), u32_to_unit((b >> 32) as u32))
-}
-
-#[inline]
-fn bits(key: &Key) -> u64 {
-    mix64(key.pattern ^ key.index_hash)
 }
 
 /// Eight samplers' state for [`sample_lanes`]: lane `k` is the pixel hashed `pixel[k]`,
@@ -55,17 +62,17 @@ crate::level_fns! {
 
 #[inline(always)]
 fn lanes(keys: &LaneKeys, offset: u32, two: bool) -> ([f32; 8], [f32; 8]) {
-    let mut bits = [0u64; 8];
-    for (k, b) in bits.iter_mut().enumerate() {
-        *b = mix64(super::dimension_pattern(keys.pixel[k], keys.dims[k] + offset) ^ keys.index[k]);
+    let mut lane_bits = [0u64; 8];
+    for (k, b) in lane_bits.iter_mut().enumerate() {
+        *b = bits(keys.pixel[k] ^ keys.index[k], keys.dims[k] + offset);
     }
     let (mut x, mut y) = ([0.0; 8], [0.0; 8]);
     for k in 0..8 {
-        x[k] = u32_to_unit(bits[k] as u32);
+        x[k] = u32_to_unit(lane_bits[k] as u32);
     }
     if two {
         for k in 0..8 {
-            y[k] = u32_to_unit((bits[k] >> 32) as u32);
+            y[k] = u32_to_unit((lane_bits[k] >> 32) as u32);
         }
     }
     (x, y)
@@ -92,19 +99,12 @@ mod tests {
             let (offset, two) = (round % 5, round % 2 == 0);
             let mut expected = ([0.0f32; 8], [0.0f32; 8]);
             for k in 0..8 {
-                let key = Key {
-                    pattern: super::super::dimension_pattern(pixel[k], dims[k] + offset),
-                    index: 0,
-                    index_hash: index[k],
-                    index_reversed: 0,
-                    count: 1,
-                    grid: [1, 1],
-                };
+                let key = pixel[k] ^ index[k];
                 if two {
-                    let p = sample_2d(&key);
+                    let p = sample_2d(key, dims[k] + offset);
                     (expected.0[k], expected.1[k]) = (p.x, p.y);
                 } else {
-                    expected.0[k] = sample_1d(&key);
+                    expected.0[k] = sample_1d(key, dims[k] + offset);
                 }
             }
             let bits = |v: ([f32; 8], [f32; 8])| (v.0.map(f32::to_bits), v.1.map(f32::to_bits));

@@ -63,9 +63,7 @@ pub(crate) struct Key {
     pub pattern: u64,
     /// The sample's index within the pixel.
     pub index: u32,
-    /// `mix64(index)` and `index.reverse_bits()`, worked out once per sample rather than
-    /// once per dimension.
-    pub index_hash: u64,
+    /// `index.reverse_bits()`, worked out once per sample rather than once per dimension.
     pub index_reversed: u32,
     /// Samples per pixel: the number of strata.
     pub count: u32,
@@ -145,7 +143,6 @@ impl PixelSampler {
         Key {
             pattern: self.pattern(d),
             index: self.index,
-            index_hash: self.index_hash,
             index_reversed: self.index_reversed,
             count: self.spp,
             grid: self.grid,
@@ -253,23 +250,29 @@ impl PixelSampler {
 
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
-        let key = self.next_key();
         match self.kind {
-            SamplerKind::Independent => independent::sample_1d(&key),
-            SamplerKind::Stratified => stratified::sample_1d(&key),
-            SamplerKind::Halton => halton::sample_1d(&key),
-            SamplerKind::Sobol => sobol::sample_1d(&key),
+            SamplerKind::Independent => {
+                let d = self.dimension;
+                self.dimension += 1;
+                independent::sample_1d(self.pixel_hash ^ self.index_hash, d)
+            }
+            SamplerKind::Stratified => stratified::sample_1d(&self.next_key()),
+            SamplerKind::Halton => halton::sample_1d(&self.next_key()),
+            SamplerKind::Sobol => sobol::sample_1d(&self.next_key()),
         }
     }
 
     #[inline]
     pub fn next_2d(&mut self) -> Vec2 {
-        let key = self.next_key();
         match self.kind {
-            SamplerKind::Independent => independent::sample_2d(&key),
-            SamplerKind::Stratified => stratified::sample_2d(&key),
-            SamplerKind::Halton => halton::sample_2d(&key),
-            SamplerKind::Sobol => sobol::sample_2d(&key),
+            SamplerKind::Independent => {
+                let d = self.dimension;
+                self.dimension += 1;
+                independent::sample_2d(self.pixel_hash ^ self.index_hash, d)
+            }
+            SamplerKind::Stratified => stratified::sample_2d(&self.next_key()),
+            SamplerKind::Halton => halton::sample_2d(&self.next_key()),
+            SamplerKind::Sobol => sobol::sample_2d(&self.next_key()),
         }
     }
 }

@@ -148,7 +148,6 @@ mod tests {
             let key = Key {
                 pattern: crate::hash::mix64(step as u64),
                 index: i % 4096,
-                index_hash: crate::hash::mix64((i % 4096) as u64),
                 index_reversed: (i % 4096).reverse_bits(),
                 count: 4096,
                 grid: [64, 64],

@@ -159,7 +159,6 @@ mod tests {
             let keys: [Key; 8] = std::array::from_fn(|k| Key {
                 pattern: pattern[k],
                 index: index_reversed[k].reverse_bits(),
-                index_hash: 0,
                 index_reversed: index_reversed[k],
                 count: 1 << 20,
                 grid: [1024, 1024],
