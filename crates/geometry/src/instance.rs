@@ -1,7 +1,7 @@
 //! Instancing: one mesh with its own accelerator, placed any number of times under
 //! different transforms without copying its triangles.
 
-use crate::accel::{build_accel, Accel, AccelKind, PrimitiveSet, PAD};
+use crate::accel::{build_accel, packets_of, Accel, AccelKind, PrimitiveSet, PAD};
 use crate::shapes::triangle::{intersect_triangle_prepared, TriangleRay};
 use crate::shapes::triangle4::Triangle4;
 use crate::shapes::triangle_box::{triangle_clipped_bounds, triangle_overlaps_box};
@@ -50,18 +50,6 @@ impl MeshTriangles {
     fn triangle(&self, i: u32) -> [Vec3; 3] {
         self.packets[i as usize / 4].get(i as usize % 4)
     }
-
-    /// The packets holding slots `first..first + count`, each with the mask of those slots'
-    /// lanes.
-    #[inline(always)]
-    fn packets_of(first: usize, count: usize) -> impl Iterator<Item = (usize, u32)> {
-        let end = first + count;
-        (first / 4..end.div_ceil(4)).map(move |packet| {
-            let lo = first.max(packet * 4) - packet * 4;
-            let hi = end.min(packet * 4 + 4) - packet * 4;
-            (packet, (0b1111u32 >> (4 - hi)) & !((1u32 << lo) - 1))
-        })
-    }
 }
 
 impl PrimitiveSet for MeshTriangles {
@@ -101,7 +89,7 @@ impl PrimitiveSet for MeshTriangles {
     fn intersect_run(&self, first: usize, count: usize, _ray: &Ray, data: &TriangleRay, t_max: f32) -> Option<Hit> {
         let mut t_max = t_max;
         let mut closest = None;
-        for (packet, lanes) in Self::packets_of(first, count) {
+        for (packet, lanes) in packets_of(first, count) {
             if let Some((lane, t, uv)) = self.packets[packet].closest(data, t_max, lanes) {
                 t_max = t;
                 closest = Some(Hit {
@@ -117,7 +105,7 @@ impl PrimitiveSet for MeshTriangles {
     #[inline(always)]
     fn occluded_run(&self, first: usize, count: usize, _ray: &Ray, data: &TriangleRay, t_max: f32) -> bool {
         // A loop, not `Iterator::any`: its `try_fold` was not inlined into the traversal.
-        for (packet, lanes) in Self::packets_of(first, count) {
+        for (packet, lanes) in packets_of(first, count) {
             if self.packets[packet].any(data, t_max, lanes) {
                 return true;
             }

@@ -8,7 +8,7 @@
 //! run is the one the primitives tested one by one in slot order give: the smallest
 //! distance, the lowest slot of equal ones.
 
-use crate::accel::{PrimitiveSet, PAD};
+use crate::accel::{packets_of, PrimitiveSet, PAD};
 use crate::geometry::PacketPrim;
 use crate::shapes::triangle::TriangleRay;
 use crate::shapes::triangle4::Triangle4;
@@ -126,18 +126,6 @@ impl ObjectSet {
         }
     }
 
-    /// The packets holding slots `first..first + count`, each with the mask of those
-    /// slots' lanes.
-    #[inline(always)]
-    fn packets_of(first: usize, count: usize) -> impl Iterator<Item = (usize, u32)> {
-        let end = first + count;
-        (first / 4..end.div_ceil(4)).map(move |packet| {
-            let lo = first.max(packet * 4) - packet * 4;
-            let hi = end.min(packet * 4 + 4) - packet * 4;
-            (packet, (0b1111u32 >> (4 - hi)) & !((1u32 << lo) - 1))
-        })
-    }
-
     /// The closest hit among the lanes `active` of `packet` in `(0, t_max)`.
     #[inline(always)]
     fn packet_closest(&self, packet: usize, active: u32, ray: &Ray, data: &TriangleRay, t_max: f32) -> Option<Hit> {
@@ -222,7 +210,7 @@ impl PrimitiveSet for ObjectSet {
     fn intersect_run(&self, first: usize, count: usize, ray: &Ray, data: &TriangleRay, t_max: f32) -> Option<Hit> {
         let mut t_max = t_max;
         let mut closest = None;
-        for (packet, lanes) in Self::packets_of(first, count) {
+        for (packet, lanes) in packets_of(first, count) {
             if let Some(hit) = self.packet_closest(packet, lanes, ray, data, t_max) {
                 t_max = hit.t;
                 closest = Some(hit);
@@ -232,7 +220,7 @@ impl PrimitiveSet for ObjectSet {
     }
     #[inline(always)]
     fn occluded_run(&self, first: usize, count: usize, ray: &Ray, data: &TriangleRay, t_max: f32) -> bool {
-        for (packet, active) in Self::packets_of(first, count) {
+        for (packet, active) in packets_of(first, count) {
             let p = &self.packets[packet];
             if p.sphere_lanes & active != 0 && p.spheres(ray, t_max, active).0 != 0 {
                 return true;

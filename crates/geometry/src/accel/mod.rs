@@ -202,6 +202,19 @@ pub trait PrimitiveSet: Send + Sync + 'static {
     }
 }
 
+/// For a set stored in packets of four slots (slot `i` is lane `i % 4` of packet `i / 4`):
+/// the packets holding slots `first..first + count`, each with the mask of those slots'
+/// lanes.
+#[inline(always)]
+pub(crate) fn packets_of(first: usize, count: usize) -> impl Iterator<Item = (usize, u32)> {
+    let end = first + count;
+    (first / 4..end.div_ceil(4)).map(move |packet| {
+        let lo = first.max(packet * 4) - packet * 4;
+        let hi = end.min(packet * 4 + 4) - packet * 4;
+        (packet, (0b1111u32 >> (4 - hi)) & !((1u32 << lo) - 1))
+    })
+}
+
 /// The accelerators a scene can choose.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum AccelKind {
