@@ -10,6 +10,7 @@
 
 use crate::accel::{packets_of, PrimitiveSet, PAD};
 use crate::geometry::PacketPrim;
+use crate::shapes::sphere::nearest_root;
 use crate::shapes::triangle::TriangleRay;
 use crate::shapes::triangle4::Triangle4;
 use crate::{Geometry, Hit};
@@ -40,10 +41,8 @@ impl Packet {
         other_lanes: 0,
     };
 
-    /// The sphere lanes' distances, and the mask of those hit in `(0, t_max)`: the floats
-    /// of [`crate::shapes::Sphere`]'s world-space test (Haines et al., Ray Tracing Gems
-    /// ch. 7), per lane. A negative discriminant makes the root NaN, which fails the
-    /// distance test as the one-sphere test's early return does.
+    /// The sphere lanes' distances, and the mask of those hit in `(0, t_max)`: the
+    /// world-space sphere test ([`nearest_root`]) in four lanes.
     #[inline(always)]
     fn spheres(&self, ray: &Ray, t_max: f32, active: u32) -> (u32, [f32; 4]) {
         let (o, d) = (ray.origin, ray.dir);
@@ -53,33 +52,9 @@ impl Packet {
             Vec4::splat(o.z) - self.centre[2],
         ];
         let dir = [Vec4::splat(d.x), Vec4::splat(d.y), Vec4::splat(d.z)];
-        let a = Vec4::splat(d.length_squared());
-        let b = f[0] * dir[0] + f[1] * dir[1] + f[2] * dir[2];
-        let c = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]) - self.r2;
-        let s = b / a;
-        let l = [f[0] - s * dir[0], f[1] - s * dir[1], f[2] - s * dir[2]];
-        let disc = self.r2 - (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
-        let q = -(b + b.signum() * sqrt4(a * disc));
-        let (x, y) = (c / q, q / a);
-        let ordered = x.cmple(y);
-        let (t0, t1) = (Vec4::select(ordered, x, y), Vec4::select(ordered, y, x));
-        let t = Vec4::select(t0.cmpgt(Vec4::ZERO), t0, t1);
+        let t = nearest_root(f, dir, Vec4::splat(d.length_squared()), self.r2);
         let hit = t.cmpgt(Vec4::ZERO) & t.cmplt(Vec4::splat(t_max));
         (hit.bitmask() & active & self.sphere_lanes, t.to_array())
-    }
-}
-
-/// Square roots of four lanes, correctly rounded as `f32::sqrt` is.
-#[inline(always)]
-fn sqrt4(v: Vec4) -> Vec4 {
-    #[cfg(target_arch = "x86_64")]
-    {
-        // SAFETY: SSE is part of the x86-64 baseline, so every x86-64 CPU runs it.
-        Vec4::from(unsafe { std::arch::x86_64::_mm_sqrt_ps(v.into()) })
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        Vec4::from_array(v.to_array().map(f32::sqrt))
     }
 }
 
@@ -123,6 +98,15 @@ impl ObjectSet {
             i
         } else {
             self.numbers[i as usize]
+        }
+    }
+
+    /// [`ObjectSet::number`] of an order's entry, [`PAD`] kept.
+    fn slot_number(&self, slot: u32) -> u32 {
+        if slot == PAD {
+            PAD
+        } else {
+            self.number(slot)
         }
     }
 
@@ -250,9 +234,9 @@ impl PrimitiveSet for ObjectSet {
             .chunks(4)
             .map(|slots| {
                 let mut p = Packet::EMPTY;
-                for (lane, &n) in slots.iter().enumerate() {
+                for (lane, &slot) in slots.iter().enumerate() {
                     let bit = 1 << lane;
-                    match self.geometry.packet_prim(n) {
+                    match self.geometry.packet_prim(self.slot_number(slot)) {
                         PacketPrim::Pad => {}
                         PacketPrim::Sphere(centre, radius) => {
                             for axis in 0..3 {
@@ -274,7 +258,7 @@ impl PrimitiveSet for ObjectSet {
         Some(ObjectSet {
             geometry: self.geometry.clone(),
             packets,
-            numbers: order.to_vec(),
+            numbers: order.iter().map(|&slot| self.slot_number(slot)).collect(),
         })
     }
     fn memory_bytes(&self) -> usize {

@@ -28,11 +28,10 @@ pub(super) fn sample_2d(key: u64, d: u32) -> Vec2 {
     Vec2::new(u32_to_unit(b as u32), u32_to_unit((b >> 32) as u32))
 }
 
-/// Eight samplers' state for [`sample_lanes`]: lane `k` is the pixel hashed `pixel[k]`,
-/// the sample index hashed `index[k]`, at dimension `dims[k]`.
+/// Eight samplers' state for [`sample_lanes`]: lane `k` is the sample keyed `key[k]`
+/// (see [`bits`]) at dimension `dims[k]`.
 pub(super) struct LaneKeys {
-    pub pixel: [u64; 8],
-    pub index: [u64; 8],
+    pub key: [u64; 8],
     pub dims: [u32; 8],
 }
 
@@ -64,7 +63,7 @@ crate::level_fns! {
 fn lanes(keys: &LaneKeys, offset: u32, two: bool) -> ([f32; 8], [f32; 8]) {
     let mut lane_bits = [0u64; 8];
     for (k, b) in lane_bits.iter_mut().enumerate() {
-        *b = bits(keys.pixel[k] ^ keys.index[k], keys.dims[k] + offset);
+        *b = bits(keys.key[k], keys.dims[k] + offset);
     }
     let (mut x, mut y) = ([0.0; 8], [0.0; 8]);
     for k in 0..8 {
@@ -92,19 +91,17 @@ mod tests {
             state
         };
         for round in 0..2_000u32 {
-            let pixel: [u64; 8] = std::array::from_fn(|_| next());
-            let index: [u64; 8] = std::array::from_fn(|_| next());
+            let key: [u64; 8] = std::array::from_fn(|_| next());
             let dims: [u32; 8] = std::array::from_fn(|k| (next() % 64) as u32 + k as u32);
-            let keys = LaneKeys { pixel, index, dims };
+            let keys = LaneKeys { key, dims };
             let (offset, two) = (round % 5, round % 2 == 0);
             let mut expected = ([0.0f32; 8], [0.0f32; 8]);
             for k in 0..8 {
-                let key = pixel[k] ^ index[k];
                 if two {
-                    let p = sample_2d(key, dims[k] + offset);
+                    let p = sample_2d(key[k], dims[k] + offset);
                     (expected.0[k], expected.1[k]) = (p.x, p.y);
                 } else {
-                    expected.0[k] = sample_1d(key, dims[k] + offset);
+                    expected.0[k] = sample_1d(key[k], dims[k] + offset);
                 }
             }
             let bits = |v: ([f32; 8], [f32; 8])| (v.0.map(f32::to_bits), v.1.map(f32::to_bits));

@@ -99,7 +99,8 @@ pub struct PixelSampler {
     spp: u32,
     grid: [u32; 2],
     index: u32,
-    index_hash: u64,
+    /// The independent sampler's key of this sample: the pixel's hash xor `mix64(index)`.
+    key: u64,
     index_reversed: u32,
     dimension: u32,
     /// Hash of the seed and pixel, the start of the pixel's sequence of dimension hashes.
@@ -114,7 +115,7 @@ impl PixelSampler {
             spp: spp.max(1),
             grid: stratified::grid(spp.max(1)),
             index: 0,
-            index_hash: crate::hash::mix64(0),
+            key: crate::hash::mix64(0),
             index_reversed: 0,
             dimension: 0,
             pixel_hash: 0,
@@ -124,10 +125,10 @@ impl PixelSampler {
     /// Starts sample `index` of `pixel`; dimensions restart from zero.
     pub fn start(&mut self, pixel: UVec2, index: u32) {
         self.index = index;
-        self.index_hash = crate::hash::mix64(index as u64);
         self.index_reversed = index.reverse_bits();
         self.dimension = 0;
         self.pixel_hash = hash_words(&[self.seed, pixel.x as u64, pixel.y as u64]);
+        self.key = self.pixel_hash ^ crate::hash::mix64(index as u64);
     }
 
     /// The hash of dimension `d` of this pixel ([`dimension_pattern`]).
@@ -200,16 +201,15 @@ impl PixelSampler {
             return out;
         }
         if samplers[lanes[0]].kind == SamplerKind::Independent {
-            // Each lane's pixel and index hashes and dimension, then every draw of the
-            // plan for the eight at once.
+            // Each lane's key and dimension, then every draw of the plan for the eight
+            // at once.
             let mut keys = independent::LaneKeys {
-                pixel: [0; 8],
-                index: [0; 8],
+                key: [0; 8],
                 dims: [0; 8],
             };
             for k in 0..8 {
                 let s = &samplers[lanes[k.min(n - 1)]];
-                (keys.pixel[k], keys.index[k], keys.dims[k]) = (s.pixel_hash, s.index_hash, s.dimension);
+                (keys.key[k], keys.dims[k]) = (s.key, s.dimension);
             }
             for &i in lanes {
                 samplers[i].dimension += advance;
@@ -254,7 +254,7 @@ impl PixelSampler {
             SamplerKind::Independent => {
                 let d = self.dimension;
                 self.dimension += 1;
-                independent::sample_1d(self.pixel_hash ^ self.index_hash, d)
+                independent::sample_1d(self.key, d)
             }
             SamplerKind::Stratified => stratified::sample_1d(&self.next_key()),
             SamplerKind::Halton => halton::sample_1d(&self.next_key()),
@@ -268,7 +268,7 @@ impl PixelSampler {
             SamplerKind::Independent => {
                 let d = self.dimension;
                 self.dimension += 1;
-                independent::sample_2d(self.pixel_hash ^ self.index_hash, d)
+                independent::sample_2d(self.key, d)
             }
             SamplerKind::Stratified => stratified::sample_2d(&self.next_key()),
             SamplerKind::Halton => halton::sample_2d(&self.next_key()),

@@ -12,7 +12,7 @@ mod disk;
 mod lanes_tests;
 mod plane;
 mod quad;
-mod sphere;
+pub(crate) mod sphere;
 pub mod triangle;
 pub mod triangle4;
 pub mod triangle_box;

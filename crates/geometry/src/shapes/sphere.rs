@@ -8,10 +8,11 @@ use super::{one_lane, GatherSurface, ShapeHit, ShapeSurface, SurfaceKernel};
 use crate::placement::PlacementLanes;
 use crate::triangle_lanes::SurfaceLanes;
 use crate::Placement;
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::{trig, Aabb, Ray, Transform};
 use std::f32::consts::PI;
+use std::ops::{Add, Div, Mul, Neg, Sub};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sphere {
@@ -56,25 +57,7 @@ impl Sphere {
                 (r.origin, r.dir, 1.0)
             }
         };
-        let a = dir.length_squared();
-        let b = f.dot(dir);
-        let c = f.length_squared() - r2;
-        // Discriminant from the distance between the centre and the line (eq. 7.7).
-        let l = f - (b / a) * dir;
-        let disc = r2 - l.length_squared();
-        if disc < 0.0 {
-            return None;
-        }
-        let q = -(b + b.signum() * (a * disc).sqrt());
-        let (t0, t1) = {
-            let (x, y) = (c / q, q / a);
-            if x <= y {
-                (x, y)
-            } else {
-                (y, x)
-            }
-        };
-        let t = if t0 > 0.0 { t0 } else { t1 };
+        let t = nearest_root(f.to_array(), dir.to_array(), dir.length_squared(), r2);
         (t > 0.0 && t < t_max).then_some((t, Vec2::ZERO))
     }
 
@@ -89,6 +72,97 @@ impl Sphere {
     pub fn surface(&self, ray: &Ray, hit: ShapeHit) -> ShapeSurface {
         one_lane(&self.lanes(), ray, hit)
     }
+}
+
+/// What [`nearest_root`] computes with: `f32`, or four lanes of it (`Vec4`, the
+/// shapes' packets in `object_set.rs`), the same floats per lane.
+pub(crate) trait RootLanes:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
+{
+    fn signum(self) -> Self;
+    /// Correctly rounded, as `f32::sqrt`.
+    fn sqrt(self) -> Self;
+    /// `(x, y)` if `x <= y`, else `(y, x)`.
+    fn ordered(x: Self, y: Self) -> (Self, Self);
+    /// `a` where `a > 0`, else `b`.
+    fn positive_or(a: Self, b: Self) -> Self;
+    /// NaN where `disc < 0`, else `t`.
+    fn unless_negative(disc: Self, t: Self) -> Self;
+}
+
+impl RootLanes for f32 {
+    fn signum(self) -> f32 {
+        f32::signum(self)
+    }
+    fn sqrt(self) -> f32 {
+        f32::sqrt(self)
+    }
+    fn ordered(x: f32, y: f32) -> (f32, f32) {
+        if x <= y {
+            (x, y)
+        } else {
+            (y, x)
+        }
+    }
+    fn positive_or(a: f32, b: f32) -> f32 {
+        if a > 0.0 {
+            a
+        } else {
+            b
+        }
+    }
+    fn unless_negative(disc: f32, t: f32) -> f32 {
+        if disc < 0.0 {
+            f32::NAN
+        } else {
+            t
+        }
+    }
+}
+
+impl RootLanes for Vec4 {
+    fn signum(self) -> Vec4 {
+        Vec4::signum(self)
+    }
+    fn sqrt(self) -> Vec4 {
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SAFETY: SSE is part of the x86-64 baseline, so every x86-64 CPU runs it.
+            Vec4::from(unsafe { std::arch::x86_64::_mm_sqrt_ps(self.into()) })
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            Vec4::from_array(self.to_array().map(f32::sqrt))
+        }
+    }
+    fn ordered(x: Vec4, y: Vec4) -> (Vec4, Vec4) {
+        let le = x.cmple(y);
+        (Vec4::select(le, x, y), Vec4::select(le, y, x))
+    }
+    fn positive_or(a: Vec4, b: Vec4) -> Vec4 {
+        Vec4::select(a.cmpgt(Vec4::ZERO), a, b)
+    }
+    fn unless_negative(disc: Vec4, t: Vec4) -> Vec4 {
+        Vec4::select(disc.cmplt(Vec4::ZERO), Vec4::NAN, t)
+    }
+}
+
+/// The distance to the nearer positive crossing of a ray (from `f`, the origin relative to
+/// the centre, along `dir` with `a = |dir|²`) with a sphere of squared radius `r2`, in the
+/// numerically stable form of Haines et al. (eq. 7.7 for the discriminant, from the
+/// distance between the centre and the line); NaN where the ray misses (a negative
+/// discriminant), which no distance test passes. The caller keeps it if it lies in
+/// `(0, t_max)`.
+#[inline(always)]
+pub(crate) fn nearest_root<T: RootLanes>(f: [T; 3], dir: [T; 3], a: T, r2: T) -> T {
+    let b = f[0] * dir[0] + f[1] * dir[1] + f[2] * dir[2];
+    let c = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]) - r2;
+    let s = b / a;
+    let l = [f[0] - s * dir[0], f[1] - s * dir[1], f[2] - s * dir[2]];
+    let disc = r2 - (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+    let q = -(b + b.signum() * (a * disc).sqrt());
+    let (t0, t1) = T::ordered(c / q, q / a);
+    T::unless_negative(disc, T::positive_or(t0, t1))
 }
 
 /// Spheres' surfaces, each lane its own placement.
