@@ -231,8 +231,12 @@ fn render_pass(
     // the splat lists held at once stay bounded whatever the image size.
     let mut results: Vec<TileResult> = Vec::with_capacity(tiles.len());
     for chunk in tiles.chunks(SPLAT_CHUNK) {
+        // One tile per job: rayon otherwise stops splitting a range after a few halvings
+        // unless a thief takes part of it, and the last unsplit run of tiles (a quarter of
+        // the pass with two threads) leaves the other threads idle at the end of every pass.
         let mut done: Vec<TileResult> = chunk
             .par_iter()
+            .with_max_len(1)
             .map_init(Scratch::default, |scratch, tile| {
                 let result = render_tile(scene, integrator, options, filter, tile, index, scratch);
                 progress.advance((tile.size.x * tile.size.y) as u64, result.rays.total());

@@ -85,6 +85,8 @@ impl Sppm {
         let sampler = PixelSampler::new(SamplerKind::Sobol, self.options.seed ^ 0x5afe_c0de, 1);
         let rows: Vec<(Vec<_>, RayCounts)> = (0..scene.height)
             .into_par_iter()
+            // One item per job, so no thread idles at the end (see `driver::render_pass`).
+            .with_max_len(1)
             .map(|y| {
                 let (mut sampler, mut rays) = (sampler.clone(), RayCounts::default());
                 let row = (0..scene.width)

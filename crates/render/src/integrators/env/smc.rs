@@ -294,6 +294,8 @@ impl PassIntegrator for EnvDirect {
         };
         let rows: Vec<Row> = rows
             .into_par_iter()
+            // One item per job, so no thread idles at the end (see `driver::render_pass`).
+            .with_max_len(1)
             .enumerate()
             .map(|(y, mut row)| {
                 let (mut sampler, mut counts, mut tally) = (sampler.clone(), RayCounts::default(), [0u64; 4]);

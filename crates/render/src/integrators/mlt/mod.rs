@@ -249,6 +249,8 @@ impl Mlt {
             .sum();
         let mut chains: Vec<Chain> = starts
             .into_par_iter()
+            // One item per job, so no thread idles at the end (see `driver::render_pass`).
+            .with_max_len(1)
             .enumerate()
             .map(|(c, k)| {
                 let c = c as u64;
@@ -288,6 +290,8 @@ impl Mlt {
         let lengths = self.max_depth.max(1);
         let rows: Vec<(Vec<f64>, RayCounts)> = (0..scene.height)
             .into_par_iter()
+            // One item per job, so no thread idles at the end (see `driver::render_pass`).
+            .with_max_len(1)
             .map(|y| {
                 let (mut sums, mut rays, mut splats) = (vec![0.0; lengths], RayCounts::default(), Vec::new());
                 let mut by_length = vec![0.0f64; lengths];
@@ -535,6 +539,8 @@ impl PassIntegrator for Mlt {
         for (c0, chunk) in chains.chains.chunks_mut(CHAIN_CHUNK).enumerate() {
             let results: Vec<(Vec<PixelSplat>, RayCounts)> = chunk
                 .par_iter_mut()
+                // One item per job, so no thread idles at the end (see `driver::render_pass`).
+                .with_max_len(1)
                 .enumerate()
                 .map(|(i, chain)| {
                     // This pass's mutations shared out: one per pixel in all.

@@ -136,6 +136,8 @@ pub fn trace_photons(
             .step_by(CHUNK as usize)
             .collect::<Vec<u64>>()
             .into_par_iter()
+            // One item per job, so no thread idles at the end (see `driver::render_pass`).
+            .with_max_len(1)
             .map(|first| {
                 let (mut out, mut rays) = (Vec::new(), RayCounts::default());
                 for index in first..(first + CHUNK).min(end) {
