@@ -26,6 +26,7 @@ use crate::{Film, Scene};
 use glam::{UVec2, Vec2};
 use penumbra_core::{PixelSampler, Ray, Rgb, SamplerKind};
 use rayon::prelude::*;
+use std::cell::RefCell;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
@@ -237,8 +238,9 @@ fn render_pass(
         let mut done: Vec<TileResult> = chunk
             .par_iter()
             .with_max_len(1)
-            .map_init(Scratch::default, |scratch, tile| {
-                let result = render_tile(scene, integrator, options, filter, tile, index, scratch);
+            .map(|tile| {
+                let result =
+                    with_scratch(|scratch| render_tile(scene, integrator, options, filter, tile, index, scratch));
                 progress.advance((tile.size.x * tile.size.y) as u64, result.rays.total());
                 result
             })
@@ -323,7 +325,22 @@ fn first_hit_aovs(scene: &Scene, ray: &Ray) -> [f32; AOV_CHANNELS] {
     [albedo.r, albedo.g, albedo.b, n.x, n.y, n.z, depth]
 }
 
-/// A worker's buffers for its tiles, kept from tile to tile.
+thread_local! {
+    /// Each worker thread's [`Scratch`], kept from tile to tile and pass to pass.
+    static SCRATCH: RefCell<Scratch> = RefCell::default();
+}
+
+/// Runs `f` with this thread's [`Scratch`] (a fresh one if it is in use: a tile rendered
+/// while another waits on this thread, should an integrator ever nest parallel work).
+fn with_scratch<T>(f: impl FnOnce(&mut Scratch) -> T) -> T {
+    SCRATCH.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut scratch) => f(&mut scratch),
+        Err(_) => f(&mut Scratch::default()),
+    })
+}
+
+/// A worker's buffers for its tiles, kept from tile to tile (their contents are set
+/// anew for every tile: they may come from another render).
 #[derive(Default)]
 struct Scratch {
     /// One sampler per lane of a batch, made for the render's settings; `start` sets all
@@ -409,6 +426,8 @@ fn render_tile(
     } = scratch;
     let batch = integrator.batch_size().max(1);
     let batch_size = batch.min(pixel_count);
+    // Made anew: the kept ones may have another render's kind, seed or sample count.
+    samplers.clear();
     samplers.resize(batch_size, sampler);
     radiance.resize(batch_size, Rgb::BLACK);
     for batch_start in (0..pixel_count).step_by(batch) {
