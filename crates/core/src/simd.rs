@@ -8,7 +8,10 @@
 //! order at every level (no fused multiply-adds), so images are bit-identical whichever
 //! level runs (`tests/determinism.rs` forces each one).
 //!
-//! `PENUMBRA_SIMD=sse2|avx2|avx512` caps the level (for testing, or to compare kernels).
+//! Without a choice the kernels run at [`Level::preferred`]: AVX2 where the CPU has it,
+//! even beside AVX-512, whose build of the same kernels measured slower on the whole suite
+//! (see there). `PENUMBRA_SIMD=sse2|avx2|avx512` chooses the level (for testing, to compare
+//! kernels, or to take AVX-512 where it pays).
 
 use std::fmt;
 use std::sync::atomic::{AtomicU8, Ordering};
@@ -97,6 +100,22 @@ impl Level {
         *Level::ALL.iter().rev().find(|l| l.supported()).unwrap_or(&Level::Sse2)
     }
 
+    /// The level used unless `PENUMBRA_SIMD` names another: AVX2 where the CPU runs it,
+    /// else the baseline. Not AVX-512: on an Intel Xeon with AVX-512 F/VL/BW/DQ (2 vCPUs,
+    /// December 2026) its build of the same eight-lane kernels made the whole suite slower
+    /// (`run.sh suite`, two alternating runs each, samples/s against Mitsuba: cbox 0.93x
+    /// against 0.99x with AVX2, Bitterli's box 0.79x against 0.85x, env-materials 1.08x
+    /// against 1.10x), as Intel cores slow their vector units once 512-bit instructions
+    /// run; an earlier AVX-512 machine had it 1-2% ahead. Images are the same bits at
+    /// every level, so the choice changes only the speed.
+    pub fn preferred() -> Level {
+        if Level::Avx2.supported() {
+            Level::Avx2
+        } else {
+            Level::Sse2
+        }
+    }
+
     /// The level named `name` (case-insensitive), if it is one.
     pub fn parse(name: &str) -> Option<Level> {
         Level::ALL
@@ -114,9 +133,9 @@ impl fmt::Display for Level {
 /// The level in use; 0 until first asked for.
 static LEVEL: AtomicU8 = AtomicU8::new(0);
 
-/// The level the kernels run at: the widest the CPU runs, capped by `PENUMBRA_SIMD` (a
-/// level the CPU lacks, or a name that is none, falls back to the widest with a note on
-/// standard error), or what [`set_level`] chose.
+/// The level the kernels run at: [`Level::preferred`], or the one `PENUMBRA_SIMD` names (a
+/// level the CPU lacks, or a name that is none, falls back to the preferred one with a note
+/// on standard error), or what [`set_level`] chose.
 #[inline(always)]
 pub fn level() -> Level {
     match LEVEL.load(Ordering::Relaxed) {
@@ -129,7 +148,7 @@ pub fn level() -> Level {
 
 #[cold]
 fn detect() -> Level {
-    let best = Level::best();
+    let best = Level::preferred();
     let chosen = match std::env::var("PENUMBRA_SIMD") {
         Ok(name) => match Level::parse(&name) {
             Some(l) if l.supported() => l,
@@ -198,6 +217,7 @@ mod tests {
         assert_eq!(Level::parse("avx9"), None);
         assert!(Level::Sse2.supported());
         assert!(Level::best().supported());
+        assert!(Level::preferred().supported() && Level::preferred() <= Level::best());
         assert!(level().supported());
     }
 }
