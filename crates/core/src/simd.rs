@@ -148,24 +148,24 @@ pub fn level() -> Level {
 
 #[cold]
 fn detect() -> Level {
-    let best = Level::preferred();
+    let preferred = Level::preferred();
     let chosen = match std::env::var("PENUMBRA_SIMD") {
         Ok(name) => match Level::parse(&name) {
             Some(l) if l.supported() => l,
             Some(l) => {
-                eprintln!("note: PENUMBRA_SIMD={name}: this CPU lacks {l}; using {best}");
-                best
+                eprintln!("note: PENUMBRA_SIMD={name}: this CPU lacks {l}; using {preferred}");
+                preferred
             }
             None => {
                 let names: Vec<_> = Level::ALL.iter().map(|l| l.name()).collect();
                 eprintln!(
-                    "note: PENUMBRA_SIMD={name} is not one of {}; using {best}",
+                    "note: PENUMBRA_SIMD={name} is not one of {}; using {preferred}",
                     names.join(", ")
                 );
-                best
+                preferred
             }
         },
-        Err(_) => best,
+        Err(_) => preferred,
     };
     LEVEL.store(chosen as u8, Ordering::Relaxed);
     chosen
