@@ -8,9 +8,7 @@
 //! shapes (a ground quad under spheres), one structure over the shapes' set with the
 //! triangles in it, so that a ray walks one structure, not two.
 
-use crate::accel::{
-    build_accel, closest_of_two, occluded_by_either, Accel, AccelKind, PrimitiveSet, TraversalStats, PAD,
-};
+use crate::accel::{build_accel, closest_of_two, occluded_by_either, Accel, AccelKind, TraversalStats, PAD};
 use crate::instance::{triangle_surface, MeshTriangles};
 use crate::object_set::ObjectSet;
 use crate::shapes::triangle::{intersect_triangle_prepared, TriangleRay};
@@ -268,16 +266,12 @@ impl Geometry {
     }
 }
 
-/// The shapes and instances, numbered as in hits; the pooled triangles after them when
-/// they are inline (else they have their own set).
-impl PrimitiveSet for Geometry {
-    type RayData = TriangleRay;
-    #[inline]
-    fn prepare(&self, ray: &Ray) -> TriangleRay {
-        TriangleRay::new(ray)
-    }
-
-    fn len(&self) -> usize {
+/// Primitive `i` of the shapes' set: the shapes and instances, numbered as in hits; the
+/// pooled triangles after them when they are inline (else they have their own set). What
+/// [`ObjectSet`], the set's [`PrimitiveSet`](crate::accel::PrimitiveSet), asks of each
+/// primitive.
+impl Geometry {
+    pub(crate) fn len(&self) -> usize {
         self.prims.len()
             + if self.inline_triangles {
                 self.pooled.indices.len()
@@ -286,7 +280,7 @@ impl PrimitiveSet for Geometry {
             }
     }
 
-    fn bounds(&self, i: u32) -> Aabb {
+    pub(crate) fn bounds(&self, i: u32) -> Aabb {
         if let Some(tri) = self.inline_triangle(i) {
             return Aabb::from_points(tri);
         }
@@ -296,14 +290,14 @@ impl PrimitiveSet for Geometry {
         }
     }
 
-    fn overlaps(&self, i: u32, b: &Aabb) -> bool {
+    pub(crate) fn overlaps(&self, i: u32, b: &Aabb) -> bool {
         match self.inline_triangle(i) {
             Some(tri) => triangle_overlaps_box(tri, b),
             None => self.bounds(i).overlaps(b),
         }
     }
 
-    fn clip_bounds(&self, i: u32, b: &Aabb) -> Aabb {
+    pub(crate) fn clip_bounds(&self, i: u32, b: &Aabb) -> Aabb {
         match self.inline_triangle(i) {
             Some(tri) => triangle_clipped_bounds(tri, b),
             None => self.bounds(i).intersection(*b),
@@ -311,7 +305,7 @@ impl PrimitiveSet for Geometry {
     }
 
     #[inline]
-    fn intersect(&self, i: u32, ray: &Ray, data: &TriangleRay, t_max: f32) -> Option<Hit> {
+    pub(crate) fn intersect(&self, i: u32, ray: &Ray, data: &TriangleRay, t_max: f32) -> Option<Hit> {
         if let Some(tri) = self.inline_triangle(i) {
             // The test the triangles' own set makes (`Triangle4` gives these bits).
             return intersect_triangle_prepared(data, tri, t_max).map(|(t, uv)| Hit { t, prim: i, sub: 0, uv });
@@ -334,7 +328,7 @@ impl PrimitiveSet for Geometry {
 
     /// The primitive table, the analytic shapes, the instances (instanced meshes are
     /// not counted) and the pooled triangles' mesh numbers.
-    fn memory_bytes(&self) -> usize {
+    pub(crate) fn memory_bytes(&self) -> usize {
         use std::mem::size_of;
         self.pooled_mesh.capacity() * size_of::<u32>()
             + self.prims.capacity() * size_of::<Prim>()
@@ -342,7 +336,7 @@ impl PrimitiveSet for Geometry {
             + self.instances.capacity() * size_of::<(Instance, u32)>()
     }
 
-    fn occluded(&self, i: u32, ray: &Ray, data: &TriangleRay, t_max: f32) -> bool {
+    pub(crate) fn occluded(&self, i: u32, ray: &Ray, data: &TriangleRay, t_max: f32) -> bool {
         if i as usize >= self.prims.len() {
             return self.intersect(i, ray, data, t_max).is_some();
         }

@@ -137,10 +137,17 @@ impl PixelSampler {
         dimension_pattern(self.pixel_hash, d)
     }
 
+    /// The next dimension's number, the sampler moved past it.
     #[inline]
-    fn next_key(&mut self) -> Key {
+    fn next_dimension(&mut self) -> u32 {
         let d = self.dimension;
         self.dimension += 1;
+        d
+    }
+
+    #[inline]
+    fn next_key(&mut self) -> Key {
+        let d = self.next_dimension();
         Key {
             pattern: self.pattern(d),
             index: self.index,
@@ -251,11 +258,7 @@ impl PixelSampler {
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
         match self.kind {
-            SamplerKind::Independent => {
-                let d = self.dimension;
-                self.dimension += 1;
-                independent::sample_1d(self.key, d)
-            }
+            SamplerKind::Independent => independent::sample_1d(self.key, self.next_dimension()),
             SamplerKind::Stratified => stratified::sample_1d(&self.next_key()),
             SamplerKind::Halton => halton::sample_1d(&self.next_key()),
             SamplerKind::Sobol => sobol::sample_1d(&self.next_key()),
@@ -265,11 +268,7 @@ impl PixelSampler {
     #[inline]
     pub fn next_2d(&mut self) -> Vec2 {
         match self.kind {
-            SamplerKind::Independent => {
-                let d = self.dimension;
-                self.dimension += 1;
-                independent::sample_2d(self.key, d)
-            }
+            SamplerKind::Independent => independent::sample_2d(self.key, self.next_dimension()),
             SamplerKind::Stratified => stratified::sample_2d(&self.next_key()),
             SamplerKind::Halton => halton::sample_2d(&self.next_key()),
             SamplerKind::Sobol => sobol::sample_2d(&self.next_key()),
