@@ -374,6 +374,11 @@ pub trait Lane8: Real {
     fn mask_of(b: [bool; 8]) -> Self::Mask;
     /// Bit `k` set where `mask` holds in lane `k`.
     fn bits(mask: Self::Mask) -> u32;
+    /// The lanewise minimum as x86's `minps` takes it: `other` where either lane is NaN
+    /// (so a NaN `self` is passed over).
+    fn min_or_other(self, other: Self) -> Self;
+    /// The lanewise maximum as x86's `maxps` takes it: `other` where either lane is NaN.
+    fn max_or_other(self, other: Self) -> Self;
 }
 
 impl Lane8 for F8 {
@@ -392,6 +397,15 @@ impl Lane8 for F8 {
     #[inline(always)]
     fn bits(mask: wide::f32x8) -> u32 {
         F8::mask_bits(mask)
+    }
+    #[inline(always)]
+    fn min_or_other(self, other: Self) -> Self {
+        // `minps`'s definition, spelt out (x86 compiles it to `minps`).
+        F8(wide::CmpLt::cmp_lt(self.0, other.0).blend(self.0, other.0))
+    }
+    #[inline(always)]
+    fn max_or_other(self, other: Self) -> Self {
+        F8(wide::CmpGt::cmp_gt(self.0, other.0).blend(self.0, other.0))
     }
 }
 

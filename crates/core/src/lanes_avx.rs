@@ -187,6 +187,16 @@ impl Lane8 for F8Avx {
         // SAFETY: see the module's note.
         unsafe { _mm256_movemask_ps(mask) as u32 }
     }
+    #[inline(always)]
+    fn min_or_other(self, other: Self) -> Self {
+        // SAFETY: see the module's note.
+        F8Avx(unsafe { _mm256_min_ps(self.0, other.0) })
+    }
+    #[inline(always)]
+    fn max_or_other(self, other: Self) -> Self {
+        // SAFETY: see the module's note.
+        F8Avx(unsafe { _mm256_max_ps(self.0, other.0) })
+    }
 }
 
 #[cfg(test)]
@@ -272,6 +282,20 @@ mod tests {
             same(pa.sqrt(), xa.sqrt(), "sqrt");
             same(pa.abs(), xa.abs(), "abs");
             same(pa.max(pb), xa.max(xb), "max");
+            same(pa.min_or_other(pb), xa.min_or_other(xb), "min_or_other");
+            same(pa.max_or_other(pb), xa.max_or_other(xb), "max_or_other");
+            let minps: [f32; 8] = std::array::from_fn(|k| if a[k] < b[k] { a[k] } else { b[k] });
+            let maxps: [f32; 8] = std::array::from_fn(|k| if a[k] > b[k] { a[k] } else { b[k] });
+            assert_eq!(
+                bits(pa.min_or_other(pb).to_array()),
+                bits(minps),
+                "minps of {a:?} and {b:?}"
+            );
+            assert_eq!(
+                bits(pa.max_or_other(pb).to_array()),
+                bits(maxps),
+                "maxps of {a:?} and {b:?}"
+            );
             same(pa.copysign(pb), xa.copysign(xb), "copysign");
             same(pa.offset_along(pb), xa.offset_along(xb), "offset_along");
             same(pa.floor(), xa.floor(), "floor");

@@ -393,7 +393,22 @@ impl Accel for Split {
         self.triangles.primitive_bytes() + self.objects.primitive_bytes()
     }
     fn intersect_batch(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
-        closest_of_two(&*self.triangles, &*self.objects, |h| self.renumber(h), rays, hits);
+        closest_of_two(
+            &*self.triangles,
+            &*self.objects,
+            |h| self.renumber(h),
+            (rays, false),
+            hits,
+        );
+    }
+    fn intersect_coherent(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
+        closest_of_two(
+            &*self.triangles,
+            &*self.objects,
+            |h| self.renumber(h),
+            (rays, true),
+            hits,
+        );
     }
     fn occluded_batch(&self, rays: &[(Ray, f32)], blocked: &mut [bool]) {
         occluded_by_either(&*self.triangles, &*self.objects, rays, blocked);

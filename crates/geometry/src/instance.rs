@@ -1,12 +1,13 @@
 //! Instancing: one mesh with its own accelerator, placed any number of times under
 //! different transforms without copying its triangles.
 
-use crate::accel::{build_accel, packets_of, Accel, AccelKind, PrimitiveSet, PAD};
-use crate::shapes::triangle::{intersect_triangle_prepared, TriangleRay};
-use crate::shapes::triangle4::Triangle4;
+use crate::accel::{build_accel, packets_of, Accel, AccelKind, PrimitiveSet, RayPacket, PACKET, PAD};
+use crate::shapes::triangle::{dominant_axis, intersect_triangle_prepared, TriangleRay};
+use crate::shapes::triangle4::{Triangle4, TriangleRays};
 use crate::shapes::triangle_box::{triangle_clipped_bounds, triangle_overlaps_box};
 use crate::{Hit, Placement, TriangleMesh};
 use glam::{Vec2, Vec3};
+use penumbra_core::lanes::Lane8;
 use penumbra_core::{Aabb, Ray, Transform};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -54,6 +55,7 @@ impl MeshTriangles {
 
 impl PrimitiveSet for MeshTriangles {
     type RayData = TriangleRay;
+    type PacketData = TriangleRays;
     #[inline]
     fn prepare(&self, ray: &Ray) -> TriangleRay {
         TriangleRay::new(ray)
@@ -114,6 +116,35 @@ impl PrimitiveSet for MeshTriangles {
     }
     fn group(&self) -> usize {
         4
+    }
+    fn packet_class(&self, ray: &Ray) -> usize {
+        dominant_axis(ray.dir)
+    }
+    fn prepare_packet(&self, p: &RayPacket<TriangleRay>) -> Option<TriangleRays> {
+        TriangleRays::new(&p.data)
+    }
+    #[inline(always)]
+    fn intersect_run_packet<L: Lane8>(
+        &self,
+        first: usize,
+        count: usize,
+        p: &RayPacket<TriangleRay>,
+        rays: &TriangleRays,
+        lanes: u32,
+        (t_max, hits): (&mut [f32; PACKET], &mut [Option<Hit>; PACKET]),
+    ) {
+        for (packet, tris) in packets_of(first, count) {
+            if let Some(h) = self.packets[packet].closest_rays::<L>(rays, &p.data, (tris, lanes), t_max) {
+                for j in (0..PACKET).filter(|j| h.mask >> j & 1 != 0) {
+                    hits[j] = Some(Hit {
+                        t: t_max[j],
+                        prim: self.id((packet * 4) as u32 + h.which[j]),
+                        sub: 0,
+                        uv: Vec2::new(h.b1[j], h.b2[j]),
+                    });
+                }
+            }
+        }
     }
     fn reordered(&self, order: &[u32]) -> Option<Self> {
         let packets = order

@@ -8,13 +8,14 @@
 //! run is the one the primitives tested one by one in slot order give: the smallest
 //! distance, the lowest slot of equal ones.
 
-use crate::accel::{packets_of, PrimitiveSet, PAD};
+use crate::accel::{packets_of, PrimitiveSet, RayPacket, PACKET, PAD};
 use crate::geometry::PacketPrim;
 use crate::shapes::sphere::nearest_root;
-use crate::shapes::triangle::TriangleRay;
-use crate::shapes::triangle4::Triangle4;
+use crate::shapes::triangle::{dominant_axis, TriangleRay};
+use crate::shapes::triangle4::{Triangle4, TriangleRays};
 use crate::{Geometry, Hit};
 use glam::{Vec2, Vec4};
+use penumbra_core::lanes::Lane8;
 use penumbra_core::{Aabb, Ray};
 use std::sync::Arc;
 
@@ -147,6 +148,7 @@ impl ObjectSet {
 
 impl PrimitiveSet for ObjectSet {
     type RayData = TriangleRay;
+    type PacketData = TriangleRays;
     #[inline]
     fn prepare(&self, ray: &Ray) -> TriangleRay {
         TriangleRay::new(ray)
@@ -228,6 +230,50 @@ impl PrimitiveSet for ObjectSet {
     }
     fn group(&self) -> usize {
         4
+    }
+    fn packet_class(&self, ray: &Ray) -> usize {
+        dominant_axis(ray.dir)
+    }
+    fn prepare_packet(&self, p: &RayPacket<TriangleRay>) -> Option<TriangleRays> {
+        TriangleRays::new(&p.data)
+    }
+    /// Packets of triangles alone take the packet test; a packet with spheres or other
+    /// shapes is tested ray by ray (the one-ray packet test).
+    #[inline(always)]
+    fn intersect_run_packet<L: Lane8>(
+        &self,
+        first: usize,
+        count: usize,
+        p: &RayPacket<TriangleRay>,
+        rays: &TriangleRays,
+        lanes: u32,
+        (t_max, hits): (&mut [f32; PACKET], &mut [Option<Hit>; PACKET]),
+    ) {
+        for (packet, active) in packets_of(first, count) {
+            let q = &self.packets[packet];
+            if (q.sphere_lanes | q.other_lanes) & active != 0 {
+                for j in (0..PACKET).filter(|j| lanes >> j & 1 != 0) {
+                    if let Some(hit) = self.packet_closest(packet, active, &p.rays[j], &p.data[j], t_max[j]) {
+                        (t_max[j], hits[j]) = (hit.t, Some(hit));
+                    }
+                }
+                continue;
+            }
+            let tris = q.triangle_lanes & active;
+            if tris == 0 {
+                continue;
+            }
+            if let Some(h) = q.triangles.closest_rays::<L>(rays, &p.data, (tris, lanes), t_max) {
+                for j in (0..PACKET).filter(|j| h.mask >> j & 1 != 0) {
+                    hits[j] = Some(Hit {
+                        t: t_max[j],
+                        prim: self.numbers[packet * 4 + h.which[j] as usize],
+                        sub: 0,
+                        uv: Vec2::new(h.b1[j], h.b2[j]),
+                    });
+                }
+            }
+        }
     }
     fn reordered(&self, order: &[u32]) -> Option<Self> {
         let packets = order

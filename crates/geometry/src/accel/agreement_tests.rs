@@ -145,6 +145,17 @@ fn check_agreement(seed: u64, n: usize, coincident: bool, with_plane: bool) -> R
             prop_assert_eq!(hits[k], accel.intersect(ray, *t_max), "{:?}: batch, ray {}", kind, k);
             prop_assert_eq!(blocked[k], accel.occluded(ray, *t_max), "{:?}: batch, ray {}", kind, k);
         }
+        // In packets (where the structure has them) too, but for ties at an equal distance,
+        // which the packet's walk may settle on another primitive.
+        accel.intersect_coherent(&batch, &mut hits);
+        for (k, (ray, t_max)) in batch.iter().enumerate() {
+            let one = accel.intersect(ray, *t_max);
+            let same = match (hits[k], one) {
+                (Some(a), Some(b)) => a.t == b.t && (a.prim != b.prim || a == b),
+                (a, b) => a == b,
+            };
+            prop_assert!(same, "{:?}: packets, ray {}: {:?} against {:?}", kind, k, hits[k], one);
+        }
     }
     Ok(())
 }

@@ -12,40 +12,46 @@ use super::{Counter, PrimitiveSet, Traverse};
 use crate::Hit;
 use glam::Vec3;
 use glam::Vec4;
+use penumbra_core::lanes::F8;
+#[cfg(target_arch = "x86_64")]
+use penumbra_core::lanes_avx::F8Avx;
 use penumbra_core::{Aabb, Ray};
 use rayon::prelude::*;
 use std::mem::MaybeUninit;
 use std::sync::Arc;
 
 /// Children per node.
-const WIDTH: usize = 8;
+pub(super) const WIDTH: usize = 8;
 
 /// A wide node: the children's boxes in structure-of-arrays form, one SIMD lane each.
 /// `bounds[2 * axis]` holds the minima along `axis`, `bounds[2 * axis + 1]` the maxima;
 /// unused lanes hold an empty box that no ray hits.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
-struct WideNode {
-    bounds: [[f32; WIDTH]; 6],
+pub(super) struct WideNode {
+    pub(super) bounds: [[f32; WIDTH]; 6],
     /// Interior child: index of its node. Leaf child: its first slot in `order`.
-    child: [u32; WIDTH],
+    pub(super) child: [u32; WIDTH],
     /// Primitives in a leaf child; 0 for an interior child or an unused lane.
-    count: [u16; WIDTH],
+    pub(super) count: [u16; WIDTH],
 }
 
 pub struct Bvh<P> {
-    prims: Arc<P>,
-    nodes: Vec<WideNode>,
+    pub(super) prims: Arc<P>,
+    pub(super) nodes: Vec<WideNode>,
     /// The primitive in each leaf slot; empty when `prims` is stored in leaf order.
-    order: Vec<u32>,
+    pub(super) order: Vec<u32>,
     bounds: Aabb,
     /// The whole tree is one leaf (a single primitive or coincident ones).
-    root_leaf: Option<(u32, u16)>,
+    pub(super) root_leaf: Option<(u32, u16)>,
 }
+
+/// The traversal entry of the root node.
+pub(super) const ROOT: u64 = 0;
 
 /// Largest traversal stack: a node pushes at most `WIDTH - 1` entries, and the build caps
 /// the depth at `MAX_DEPTH`.
-const STACK: usize = (WIDTH - 1) * MAX_DEPTH + 1;
+pub(super) const STACK: usize = (WIDTH - 1) * MAX_DEPTH + 1;
 
 impl<P: PrimitiveSet> Bvh<P> {
     pub fn new(prims: Arc<P>) -> Self {
@@ -119,6 +125,7 @@ impl<P: PrimitiveSet> Bvh<P> {
     #[inline(always)]
     fn traverse<C: Counter, const NEAREST_FIRST: bool, const AVX: bool>(
         &self,
+        start: u64,
         ray: &Ray,
         mut t_max: f32,
         stats: &mut C,
@@ -140,7 +147,7 @@ impl<P: PrimitiveSet> Bvh<P> {
         let mut refs = [MaybeUninit::<u64>::uninit(); STACK];
         let mut dists = [MaybeUninit::<f32>::uninit(); STACK];
         let mut top = 0;
-        let mut current = 0u64;
+        let mut current = start;
         loop {
             let index = current as u32 as usize;
             let count = (current >> 32) as usize;
@@ -230,9 +237,25 @@ impl<P: PrimitiveSet> Bvh<P> {
 
     #[inline(always)]
     fn closest_hit<C: Counter, const AVX: bool>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
-        let data = self.prims.prepare(ray);
+        self.closest_from::<C, AVX>(ROOT, ray, &self.prims.prepare(ray), t_max, stats)
+    }
+
+    /// The closest hit below `start` (a pending entry of the traversal: a node, or a leaf
+    /// with its count in the high half; [`ROOT`] for the whole tree), for `ray` with its
+    /// prepared `data`.
+    #[inline(always)]
+    pub(super) fn closest_from<C: Counter, const AVX: bool>(
+        &self,
+        start: u64,
+        ray: &Ray,
+        data: &P::RayData,
+        t_max: f32,
+        stats: &mut C,
+    ) -> Option<Hit> {
+        let data = *data;
         let mut closest = None;
         self.traverse::<C, true, AVX>(
+            start,
             ray,
             t_max,
             stats,
@@ -260,9 +283,16 @@ impl<P: PrimitiveSet> Bvh<P> {
 
     #[inline(always)]
     fn any_hit_kernel<const AVX: bool>(&self, ray: &Ray, t_max: f32) -> bool {
-        let data = self.prims.prepare(ray);
+        self.any_hit_from::<AVX>(ROOT, ray, &self.prims.prepare(ray), t_max)
+    }
+
+    /// Whether anything below `start` (as in [`Bvh::closest_from`]) blocks `ray`.
+    #[inline(always)]
+    pub(super) fn any_hit_from<const AVX: bool>(&self, start: u64, ray: &Ray, data: &P::RayData, t_max: f32) -> bool {
+        let data = *data;
         let mut hit = false;
         self.traverse::<(), false, AVX>(
+            start,
             ray,
             t_max,
             &mut (),
@@ -303,6 +333,12 @@ impl<P: PrimitiveSet> Bvh<P> {
             for ((ray, t_max), hit) in rays.iter().zip(hits) {
                 *hit = self.closest_hit::<(), true>(ray, *t_max, &mut ());
             }
+        }
+    }
+
+    penumbra_core::level_fns! {
+        unsafe fn [coherent_batch_avx2, coherent_batch_avx512](&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
+            self.closest_packets::<F8Avx, true>(rays, hits)
         }
     }
 
@@ -420,7 +456,7 @@ fn slabs_sse(node: &WideNode, r: &RaySlabs, t_max: f32) -> (u32, [f32; WIDTH]) {
 }
 
 /// Widens exit distances by pbrt-v4's 1 + 2 gamma(3) so rounding never skips a box.
-const ROUNDING: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+pub(super) const ROUNDING: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
 impl<P: PrimitiveSet> Traverse for Bvh<P> {
     fn closest<C: Counter>(&self, ray: &Ray, t_max: f32, stats: &mut C) -> Option<Hit> {
@@ -439,7 +475,8 @@ impl<P: PrimitiveSet> Traverse for Bvh<P> {
         )
     }
 
-    /// The whole batch in one function compiled for the CPU's level.
+    /// The whole batch in one function compiled for the CPU's level, in packets of rays
+    /// (`bvh_packet.rs`).
     fn closest_batch(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
         penumbra_core::at_level!(
             avx512: self.closest_batch_avx512(rays, hits),
@@ -447,6 +484,15 @@ impl<P: PrimitiveSet> Traverse for Bvh<P> {
             portable: for ((ray, t_max), hit) in rays.iter().zip(hits) {
                 *hit = self.closest_hit::<(), false>(ray, *t_max, &mut ());
             },
+        )
+    }
+
+    /// Coherent rays in packets (`bvh_packet.rs`).
+    fn closest_coherent(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
+        penumbra_core::at_level!(
+            avx512: self.coherent_batch_avx512(rays, hits),
+            avx2: self.coherent_batch_avx2(rays, hits),
+            portable: self.closest_packets::<F8, false>(rays, hits),
         )
     }
 

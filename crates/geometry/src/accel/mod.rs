@@ -11,20 +11,24 @@
 
 mod bvh;
 mod bvh_build;
+mod bvh_packet;
 mod grid;
 mod kdtree;
 mod list;
 mod mailbox;
 mod nested_grid;
 mod octree;
+mod packet;
 
 pub use bvh::Bvh;
 pub use grid::{Grid, GridParams};
 pub use kdtree::KdTree;
 pub use list::{closest_of, List};
 pub use octree::{Octree, Policy as OctreePolicy};
+pub use packet::{RayPacket, PACKET};
 
 use crate::Hit;
+use penumbra_core::lanes::Lane8;
 use penumbra_core::{Aabb, Ray};
 use std::sync::Arc;
 
@@ -48,6 +52,11 @@ pub trait Accel: Send + Sync {
     fn intersect_batch(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]);
     /// [`Accel::occluded`] for each `(ray, t_max)` of `rays`, into `blocked`.
     fn occluded_batch(&self, rays: &[(Ray, f32)], blocked: &mut [bool]);
+    /// [`Accel::intersect_batch`] for rays that run nearly parallel from nearby origins
+    /// in runs of eight (a tile's camera rays), which a structure may trace in packets.
+    fn intersect_coherent(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
+        self.intersect_batch(rays, hits)
+    }
 }
 
 /// What an accelerator implements; [`Accel`] follows from it, with the closest-hit query
@@ -63,6 +72,11 @@ pub trait Traverse: Send + Sync {
         for ((ray, t_max), hit) in rays.iter().zip(hits) {
             *hit = self.closest(ray, *t_max, &mut ());
         }
+    }
+    /// [`Accel::intersect_coherent`]: [`Traverse::closest_batch`] unless the structure
+    /// has packets.
+    fn closest_coherent(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
+        self.closest_batch(rays, hits)
     }
     /// [`Accel::occluded_batch`], one ray after another.
     fn any_hit_batch(&self, rays: &[(Ray, f32)], blocked: &mut [bool]) {
@@ -96,6 +110,9 @@ impl<T: Traverse> Accel for T {
     }
     fn occluded_batch(&self, rays: &[(Ray, f32)], blocked: &mut [bool]) {
         self.any_hit_batch(rays, blocked)
+    }
+    fn intersect_coherent(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
+        self.closest_coherent(rays, hits)
     }
 }
 
@@ -138,7 +155,10 @@ pub const PAD: u32 = u32::MAX;
 /// What an accelerator is built over: indexable primitives with bounds and a ray test.
 pub trait PrimitiveSet: Send + Sync + 'static {
     /// What the primitives' tests need of a ray, computed once per query.
-    type RayData;
+    type RayData: Copy;
+    /// What the packet tests ([`PrimitiveSet::intersect_run_packet`]) need of a packet's
+    /// rays, made once per packet (`()` for a set without packet tests).
+    type PacketData;
     fn prepare(&self, ray: &Ray) -> Self::RayData;
     fn len(&self) -> usize;
     fn is_empty(&self) -> bool {
@@ -184,6 +204,35 @@ pub trait PrimitiveSet: Send + Sync + 'static {
     #[inline]
     fn occluded_run(&self, first: usize, count: usize, ray: &Ray, data: &Self::RayData, t_max: f32) -> bool {
         (first..first + count).any(|i| self.occluded(i as u32, ray, data, t_max))
+    }
+    /// Rays of one class can share a packet ([`PrimitiveSet::prepare_packet`] accepts
+    /// them): the dominant axis of the direction for triangles' watertight test, whose
+    /// frame depends on it. At most [`packet::CLASSES`] classes.
+    fn packet_class(&self, _ray: &Ray) -> usize {
+        0
+    }
+    /// The packet tests' data for the rays of `p` (lanes `p.mask`), if the set has packet
+    /// tests and those rays can share them; `None`: the leaves test the rays one by one.
+    fn prepare_packet(&self, _p: &RayPacket<Self::RayData>) -> Option<Self::PacketData> {
+        None
+    }
+    /// [`PrimitiveSet::intersect_run`] for the rays of `p` in `lanes`, at once: each lane's
+    /// `t_max` and hit are updated as the one-ray run would update them, to the bit.
+    #[inline(always)]
+    fn intersect_run_packet<L: Lane8>(
+        &self,
+        first: usize,
+        count: usize,
+        p: &RayPacket<Self::RayData>,
+        _data: &Self::PacketData,
+        lanes: u32,
+        (t_max, hits): (&mut [f32; PACKET], &mut [Option<Hit>; PACKET]),
+    ) {
+        for j in (0..PACKET).filter(|j| lanes >> j & 1 != 0) {
+            if let Some(hit) = self.intersect_run(first, count, &p.rays[j], &p.data[j], t_max[j]) {
+                (t_max[j], hits[j]) = (hit.t, Some(hit));
+            }
+        }
     }
     /// Bytes of memory the set holds for its primitives' data.
     fn memory_bytes(&self) -> usize {
@@ -314,6 +363,7 @@ struct Subset<P> {
 
 impl<P: PrimitiveSet> PrimitiveSet for Subset<P> {
     type RayData = P::RayData;
+    type PacketData = ();
     fn prepare(&self, ray: &Ray) -> P::RayData {
         self.prims.prepare(ray)
     }
@@ -367,7 +417,10 @@ impl<P: PrimitiveSet> Accel for WithUnbounded<P> {
         self.inner.primitive_bytes()
     }
     fn intersect_batch(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
-        closest_of_two(&self.unbounded, &*self.inner, |h| h, rays, hits);
+        closest_of_two(&self.unbounded, &*self.inner, |h| h, (rays, false), hits);
+    }
+    fn intersect_coherent(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
+        closest_of_two(&self.unbounded, &*self.inner, |h| h, (rays, true), hits);
     }
     fn occluded_batch(&self, rays: &[(Ray, f32)], blocked: &mut [bool]) {
         occluded_by_either(&self.unbounded, &*self.inner, rays, blocked);
@@ -377,25 +430,32 @@ impl<P: PrimitiveSet> Accel for WithUnbounded<P> {
 /// Rays a batch over two structures handles at a time (room on the stack).
 const CHUNK: usize = 64;
 
-/// [`Accel::intersect_batch`] over two structures: `first`'s hits (renumbered by `map`),
-/// then `second`'s, each ray limited to its hit in `first`, as `second.intersect(ray,
-/// t).or(near)` answers one ray.
+/// [`Accel::intersect_batch`] (or, for `coherent` rays, [`Accel::intersect_coherent`]) over
+/// two structures: `first`'s hits (renumbered by `map`), then `second`'s, each ray limited
+/// to its hit in `first`, as `second.intersect(ray, t).or(near)` answers one ray.
 pub(crate) fn closest_of_two(
     first: &dyn Accel,
     second: &dyn Accel,
     map: impl Fn(Hit) -> Hit,
-    rays: &[(Ray, f32)],
+    (rays, coherent): (&[(Ray, f32)], bool),
     hits: &mut [Option<Hit>],
 ) {
+    let trace = |accel: &dyn Accel, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]| {
+        if coherent {
+            accel.intersect_coherent(rays, hits)
+        } else {
+            accel.intersect_batch(rays, hits)
+        }
+    };
     for (rays, hits) in rays.chunks(CHUNK).zip(hits.chunks_mut(CHUNK)) {
-        first.intersect_batch(rays, hits);
+        trace(first, rays, hits);
         let mut limited = [(Ray::new(glam::Vec3::ZERO, glam::Vec3::Z), 0.0); CHUNK];
         for ((l, (ray, t_max)), hit) in limited.iter_mut().zip(rays).zip(hits.iter_mut()) {
             *hit = hit.map(&map);
             *l = (*ray, hit.map_or(*t_max, |h| h.t));
         }
         let mut closer = [None; CHUNK];
-        second.intersect_batch(&limited[..rays.len()], &mut closer[..rays.len()]);
+        trace(second, &limited[..rays.len()], &mut closer[..rays.len()]);
         for (hit, c) in hits.iter_mut().zip(closer) {
             if c.is_some() {
                 *hit = c;

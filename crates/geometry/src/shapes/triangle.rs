@@ -26,17 +26,10 @@ pub struct TriangleRay {
 impl TriangleRay {
     #[inline]
     pub fn new(ray: &Ray) -> Self {
-        // The largest |component|, the first of equal ones (as `Vec3::max_position`), and
-        // the two after it in cyclic order. Chosen without branches: the dominant axis of
-        // a scattered ray is a coin toss that a branch predictor loses about half the
-        // time (cachegrind's branch simulation put 0.9 mispredictions per ray here). The
-        // conditions become flags and `kz` a conditional move; the components are read
-        // from arrays by index.
-        let (a, d) = (ray.dir.abs().to_array(), ray.dir.to_array());
-        let y_first = a[1] > a[0];
-        let kz = y_first as usize;
-        let max = if y_first { a[1] } else { a[0] };
-        let kz = if a[2] > max { 2 } else { kz };
+        // z is the dominant axis, x and y the two after it in cyclic order; the components
+        // are read from arrays by index.
+        let d = ray.dir.to_array();
+        let kz = dominant_axis(ray.dir);
         let (kx, ky) = (NEXT[kz], NEXT[NEXT[kz]]);
         let (dx, dy, dz) = (d[kx], d[ky], d[kz]);
         let o = ray.origin.to_array();
@@ -61,6 +54,24 @@ impl TriangleRay {
 
 /// The axis after each in cyclic order.
 const NEXT: [usize; 3] = [1, 2, 0];
+
+/// The axis of the largest |component| of `dir`, the first of equal ones (as
+/// `Vec3::max_position`): the watertight test's z. Chosen without branches: the dominant
+/// axis of a scattered ray is a coin toss that a branch predictor loses about half the
+/// time (cachegrind's branch simulation put 0.9 mispredictions per ray here); the
+/// conditions become flags and the axis a conditional move.
+#[inline(always)]
+pub fn dominant_axis(dir: Vec3) -> usize {
+    let a = dir.abs().to_array();
+    let y_first = a[1] > a[0];
+    let kz = y_first as usize;
+    let max = if y_first { a[1] } else { a[0] };
+    if a[2] > max {
+        2
+    } else {
+        kz
+    }
+}
 
 /// Distance and barycentrics `(b1, b2)` of the hit of `ray` with triangle `p`, if it lies in
 /// `(0, t_max)`. Degenerate triangles are never hit.

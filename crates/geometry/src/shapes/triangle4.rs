@@ -9,6 +9,58 @@
 
 use super::triangle::{intersect_triangle_prepared, TriangleRay};
 use glam::{Vec2, Vec3, Vec4};
+use penumbra_core::lanes::Lane8;
+
+/// Rays of a packet in the watertight test's frame, one SIMD lane each, sharing its
+/// permutation (`axes`): each lane's permuted origin and shear, as [`TriangleRay`] holds
+/// them.
+#[derive(Clone, Copy, Debug)]
+pub struct TriangleRays {
+    axes: [usize; 3],
+    origin: [[f32; 8]; 3],
+    shear: [[f32; 8]; 3],
+}
+
+impl TriangleRays {
+    /// The lanes of `data`, if they share one permutation.
+    pub fn new(data: &[TriangleRay; 8]) -> Option<Self> {
+        let axes = data[0].axes;
+        let mut rays = TriangleRays {
+            axes,
+            origin: [[0.0; 8]; 3],
+            shear: [[0.0; 8]; 3],
+        };
+        for (j, d) in data.iter().enumerate() {
+            if d.axes != axes {
+                return None;
+            }
+            for axis in 0..3 {
+                rays.origin[axis][j] = d.origin[axis];
+                rays.shear[axis][j] = d.shear[axis];
+            }
+        }
+        Some(rays)
+    }
+}
+
+/// Where the rays of a packet hit one of the four triangles: per lane, which triangle and
+/// the barycentrics (the distances are the rays' new `t_max`), for the lanes in `mask`.
+pub struct RaysHit {
+    pub mask: u32,
+    pub which: [u32; 8],
+    pub b1: [f32; 8],
+    pub b2: [f32; 8],
+}
+
+/// One triangle against a packet's rays: the lanes hit without the scalar fallback
+/// (`valid`), those that need it, and every lane's distance and barycentrics.
+struct RayLanes<L: Lane8> {
+    valid: L::Mask,
+    fallback: u32,
+    t: L,
+    b1: L,
+    b2: L,
+}
 
 /// Four triangles: `v[3 * k + axis]` holds coordinate `axis` of vertex `k`, one triangle per
 /// lane. Unused lanes hold NaN vertices, which no ray hits.
@@ -154,6 +206,151 @@ impl Triangle4 {
             b2: (e2 * inv_det).to_array(),
         }
     }
+}
+
+/// The packet tests: each triangle against up to eight rays at once, one ray per lane,
+/// with exactly the floats of [`Triangle4::test`] (which are the scalar test's).
+impl Triangle4 {
+    /// [`Triangle4::closest`] for the rays `rays` of a packet (their data `data`, in the
+    /// frame `r`), among the triangles `tris`: the triangles taken in lane order, each
+    /// against every ray, keeping a ray's nearest (the lowest lane of equal ones), as the
+    /// one-ray test does. A hit ray's `t_max` becomes its distance.
+    #[inline(always)]
+    pub fn closest_rays<L: Lane8>(
+        &self,
+        r: &TriangleRays,
+        data: &[TriangleRay; 8],
+        (tris, rays): (u32, u32),
+        t_max: &mut [f32; 8],
+    ) -> Option<RaysHit> {
+        let t0 = L::from_array(*t_max);
+        let active = lanes_of::<L>(rays);
+        let zero = L::splat(0.0);
+        let (mut best, mut b1, mut b2, mut which) = (t0, zero, zero, zero);
+        let mut hit = 0;
+        let mut left = tris;
+        while left != 0 {
+            let k = left.trailing_zeros() as usize;
+            left &= left - 1;
+            let h = self.test_rays::<L>(k, r, t0, active);
+            let take = L::and(h.valid, h.t.cmp_lt(best));
+            best = L::select(take, h.t, best);
+            b1 = L::select(take, h.b1, b1);
+            b2 = L::select(take, h.b2, b2);
+            which = L::select(take, L::splat(k as f32), which);
+            hit |= L::bits(take);
+            if h.fallback != 0 {
+                let mut lanes = [best.to_array(), b1.to_array(), b2.to_array(), which.to_array()];
+                hit |= self.closest_fallback_rays(k, data, h.fallback, t_max, &mut lanes);
+                let [t, u, v, w] = lanes;
+                (best, b1, b2, which) = (L::from_array(t), L::from_array(u), L::from_array(v), L::from_array(w));
+            }
+        }
+        if hit == 0 {
+            return None;
+        }
+        *t_max = best.to_array();
+        Some(RaysHit {
+            mask: hit,
+            which: which.to_array().map(|w| w as u32),
+            b1: b1.to_array(),
+            b2: b2.to_array(),
+        })
+    }
+
+    /// The rays of `lanes` whose test of triangle `k` needs the scalar fallback: each
+    /// taken where nearer than its best so far (`best`: distances, barycentrics, lanes).
+    #[cold]
+    #[inline(never)]
+    fn closest_fallback_rays(
+        &self,
+        k: usize,
+        data: &[TriangleRay; 8],
+        lanes: u32,
+        t_max: &[f32; 8],
+        best: &mut [[f32; 8]; 4],
+    ) -> u32 {
+        let mut hit = 0;
+        for j in (0..8).filter(|j| lanes >> j & 1 != 0) {
+            if let Some((t, b)) = intersect_triangle_prepared(&data[j], self.get(k), t_max[j]) {
+                if t < best[0][j] {
+                    (best[0][j], best[1][j], best[2][j], best[3][j]) = (t, b.x, b.y, k as f32);
+                    hit |= 1 << j;
+                }
+            }
+        }
+        hit
+    }
+
+    /// Triangle `k` against every lane of `r` within its `t_max`, for the lanes `active`:
+    /// [`Triangle4::test`]'s floats with the roles of lanes swapped (there a triangle per
+    /// lane, here a ray per lane).
+    #[inline(always)]
+    fn test_rays<L: Lane8>(&self, k: usize, r: &TriangleRays, t_max: L, active: L::Mask) -> RayLanes<L> {
+        // No closures make lane values here: a closure is compiled apart from the caller's
+        // SIMD level, its intrinsics then calls.
+        let origin = [
+            L::from_array(r.origin[0]),
+            L::from_array(r.origin[1]),
+            L::from_array(r.origin[2]),
+        ];
+        let shear = (L::from_array(r.shear[0]), L::from_array(r.shear[1]));
+        let p0 = self.sheared_corner::<L>(0, k, r.axes, &origin, shear);
+        let p1 = self.sheared_corner::<L>(1, k, r.axes, &origin, shear);
+        let p2 = self.sheared_corner::<L>(2, k, r.axes, &origin, shear);
+        let e0 = p1.0 * p2.1 - p1.1 * p2.0;
+        let e1 = p2.0 * p0.1 - p2.1 * p0.0;
+        let e2 = p0.0 * p1.1 - p0.1 * p1.0;
+        let zero = L::splat(0.0);
+        let on_edge = L::or(L::or(e0.cmp_eq(zero), e1.cmp_eq(zero)), e2.cmp_eq(zero));
+        let fallback = L::and(on_edge, active);
+        let det = e0 + e1 + e2;
+        let positive = L::and(L::and(e0.cmp_gt(zero), e1.cmp_gt(zero)), e2.cmp_gt(zero));
+        let negative = L::and(L::and(e0.cmp_lt(zero), e1.cmp_lt(zero)), e2.cmp_lt(zero));
+        let t_scaled = (e0 * p0.2 + e1 * p1.2 + e2 * p2.2) * L::from_array(r.shear[2]);
+        let limit = t_max * det;
+        let in_range = L::or(
+            L::and(L::and(positive, t_scaled.cmp_gt(zero)), t_scaled.cmp_le(limit)),
+            L::and(L::and(negative, t_scaled.cmp_lt(zero)), t_scaled.cmp_ge(limit)),
+        );
+        let inv_det = L::splat(1.0) / det;
+        let t = t_scaled * inv_det;
+        let valid = L::and(L::and(in_range, t.cmp_gt(zero)), t.cmp_lt(t_max));
+        RayLanes {
+            valid: L::and(L::and(valid, active), L::not(fallback)),
+            fallback: L::bits(fallback),
+            t,
+            b1: e1 * inv_det,
+            b2: e2 * inv_det,
+        }
+    }
+}
+
+impl Triangle4 {
+    /// Vertex `v` of triangle `k` relative to each lane's origin, permuted and sheared.
+    #[inline(always)]
+    fn sheared_corner<L: Lane8>(
+        &self,
+        v: usize,
+        k: usize,
+        axes: [usize; 3],
+        origin: &[L; 3],
+        (sx, sy): (L, L),
+    ) -> (L, L, L) {
+        let [kx, ky, kz] = axes;
+        let dz = L::splat(self.v[3 * v + kz][k]) - origin[2];
+        (
+            (L::splat(self.v[3 * v + kx][k]) - origin[0]) + sx * dz,
+            (L::splat(self.v[3 * v + ky][k]) - origin[1]) + sy * dz,
+            dz,
+        )
+    }
+}
+
+/// The mask of the lanes whose bits are set in `bits`.
+#[inline(always)]
+fn lanes_of<L: Lane8>(bits: u32) -> L::Mask {
+    L::mask_of(std::array::from_fn(|j| bits >> j & 1 != 0))
 }
 
 /// What the SIMD part of the test found: the active lanes hit (`mask`), the lanes that need

@@ -237,7 +237,13 @@ impl PathTracer {
             for (k, r) in closest_rays[..count].iter_mut().enumerate() {
                 *r = (paths[live[k]].ray, f32::INFINITY);
             }
-            scene.accel.intersect_batch(&closest_rays[..count], &mut hits[..count]);
+            if depth == 0 {
+                scene
+                    .accel
+                    .intersect_coherent(&closest_rays[..count], &mut hits[..count]);
+            } else {
+                scene.accel.intersect_batch(&closest_rays[..count], &mut hits[..count]);
+            }
             for (k, &hit) in hits[..count].iter().enumerate() {
                 match hit.and_then(|hit| self.diffuse_lane(scene, &lanes, k, &hit)) {
                     Some(_) if depth + 1 >= self.options.max_depth => paths[live[k]].alive = false,
