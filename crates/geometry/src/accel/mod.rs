@@ -207,7 +207,7 @@ pub trait PrimitiveSet: Send + Sync + 'static {
     }
     /// Rays of one class can share a packet ([`PrimitiveSet::prepare_packet`] accepts
     /// them): the dominant axis of the direction for triangles' watertight test, whose
-    /// frame depends on it. At most [`packet::CLASSES`] classes.
+    /// frame depends on it. At most three classes (`packet::CLASSES`).
     fn packet_class(&self, _ray: &Ray) -> usize {
         0
     }

@@ -209,7 +209,7 @@ impl Triangle4 {
 }
 
 /// The packet tests: each triangle against up to eight rays at once, one ray per lane,
-/// with exactly the floats of [`Triangle4::test`] (which are the scalar test's).
+/// with exactly the floats of `Triangle4::test` (which are the scalar test's).
 impl Triangle4 {
     /// [`Triangle4::closest`] for the rays `rays` of a packet (their data `data`, in the
     /// frame `r`), among the triangles `tris`: the triangles taken in lane order, each
