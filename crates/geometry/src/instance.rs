@@ -135,14 +135,7 @@ impl PrimitiveSet for MeshTriangles {
     ) {
         for (packet, tris) in packets_of(first, count) {
             if let Some(h) = self.packets[packet].closest_rays::<L>(rays, &p.data, (tris, lanes), t_max) {
-                for j in (0..PACKET).filter(|j| h.mask >> j & 1 != 0) {
-                    hits[j] = Some(Hit {
-                        t: t_max[j],
-                        prim: self.id((packet * 4) as u32 + h.which[j]),
-                        sub: 0,
-                        uv: Vec2::new(h.b1[j], h.b2[j]),
-                    });
-                }
+                h.write(t_max, hits, |k| self.id((packet * 4 + k) as u32));
             }
         }
     }

@@ -264,14 +264,7 @@ impl PrimitiveSet for ObjectSet {
                 continue;
             }
             if let Some(h) = q.triangles.closest_rays::<L>(rays, &p.data, (tris, lanes), t_max) {
-                for j in (0..PACKET).filter(|j| h.mask >> j & 1 != 0) {
-                    hits[j] = Some(Hit {
-                        t: t_max[j],
-                        prim: self.numbers[packet * 4 + h.which[j] as usize],
-                        sub: 0,
-                        uv: Vec2::new(h.b1[j], h.b2[j]),
-                    });
-                }
+                h.write(t_max, hits, |k| self.numbers[packet * 4 + k]);
             }
         }
     }

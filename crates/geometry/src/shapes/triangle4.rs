@@ -52,6 +52,23 @@ pub struct RaysHit {
     pub b2: [f32; 8],
 }
 
+impl RaysHit {
+    /// Each hit lane's `Hit` into `hits`: its distance (the lane's `t_max` after
+    /// [`Triangle4::closest_rays`]), the number `prim(k)` of the triangle in lane `k`, its
+    /// barycentrics.
+    #[inline(always)]
+    pub fn write(&self, t_max: &[f32; 8], hits: &mut [Option<crate::Hit>; 8], prim: impl Fn(usize) -> u32) {
+        for j in (0..8).filter(|j| self.mask >> j & 1 != 0) {
+            hits[j] = Some(crate::Hit {
+                t: t_max[j],
+                prim: prim(self.which[j] as usize),
+                sub: 0,
+                uv: Vec2::new(self.b1[j], self.b2[j]),
+            });
+        }
+    }
+}
+
 /// One triangle against a packet's rays: the lanes hit without the scalar fallback
 /// (`valid`), those that need it, and every lane's distance and barycentrics.
 struct RayLanes<L: Lane8> {

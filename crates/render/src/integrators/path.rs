@@ -15,7 +15,8 @@
 //! sample (its shadow ray kept) and the continuation; then every shadow ray. Each stage is
 //! a loop over the batch (a whole tile of camera rays, [`BATCH`]), so the rays of a stage
 //! go to the accelerator together (`Accel::intersect_batch`, [`Scene::occluded_batch`]:
-//! one call, at the CPU's SIMD level, for all of them); paths at plain Lambertian
+//! one call, at the CPU's SIMD level, for all of them; the camera rays, coherent, by
+//! `Accel::intersect_coherent`, which walks the BVH in packets of eight); paths at plain Lambertian
 //! triangles are set aside at the hit and take their bounce eight at a time in SIMD lanes
 //! (`diffuse_lanes.rs`). Every path draws its random numbers and adds its terms in the
 //! order a path traced alone would, so a batch gives exactly the radiance of its paths
