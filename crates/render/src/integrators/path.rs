@@ -25,7 +25,7 @@
 use super::bsdf_lanes::{BsdfAnswer, BsdfQuery, Buckets};
 use super::light_lanes::{sample_lights, LightRequest};
 use super::nee::{self, LightPoint, LightStrategy, Shading};
-use super::path_diffuse::LaneTable;
+use super::path_diffuse::{Columns, LaneTable};
 use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts, Splat};
 use crate::bsdfs::BsdfSample;
 use crate::interface::Progress;
@@ -212,6 +212,7 @@ impl PathTracer {
             (Vec::with_capacity(N), Vec::with_capacity(N), Vec::with_capacity(N));
         let mut one_by_one = Vec::with_capacity(N);
         let mut buckets = Buckets::default();
+        let mut columns = Columns::new();
         // The paths still alive, compacted as paths end.
         for (i, l) in live.iter_mut().enumerate() {
             *l = i;
@@ -378,6 +379,7 @@ impl PathTracer {
                     &mut shadows,
                     (depth, &nee, selection),
                     counts,
+                    &mut columns,
                 );
             }
             let m = shadows.len;

@@ -122,10 +122,17 @@ fn plain_diffuse(material: &Material) -> Option<(&Texture, bool)> {
     }
 }
 
-/// The inputs of eight lanes, gathered into columns of eight floats.
-struct Columns([[f32; 8]; Columns::COUNT]);
+/// The inputs of eight lanes, gathered into columns of eight floats. One set serves a
+/// batch's groups in turn: a group writes every column its lanes use (a lane's columns
+/// for normals, UVs or a light it lacks keep an earlier group's values, which only that
+/// lane's discarded results read).
+pub(super) struct Columns([[f32; 8]; Columns::COUNT]);
 
 impl Columns {
+    pub(super) fn new() -> Self {
+        Columns([[0.0; 8]; Columns::COUNT])
+    }
+
     /// The hit triangle's corners (nine columns), vertex normals (nine) and UVs (six).
     const P: usize = 0;
     const N: usize = 9;
@@ -376,6 +383,7 @@ impl PathTracer {
         shadows: &mut Shadows<N>,
         (depth, nee, selection): (u32, &LightStrategy, LightSelection),
         counts: &mut RayCounts,
+        columns: &mut Columns,
     ) {
         let n = group.len();
         // Lanes past the group's end repeat its last path; their results are dropped.
@@ -403,7 +411,7 @@ impl PathTracer {
         // The environment's light samples are taken in the lanes too.
         let mut environment = None;
         let rgb = |c: Rgb| Vec3::new(c.r, c.g, c.b);
-        let mut c = Columns([[0.0; 8]; Columns::COUNT]);
+        let c = columns;
         let mut f = Flags::default();
         let mut tris = [false; 8];
         for j in 0..8 {
@@ -452,7 +460,7 @@ impl PathTracer {
             }
         }
         let r = run_lane_kernel(&LaneInput {
-            columns: &c,
+            columns: c,
             flags: &f,
             env: environment,
             u_light,
