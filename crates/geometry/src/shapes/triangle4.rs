@@ -355,12 +355,19 @@ impl Triangle4 {
         (sx, sy): (L, L),
     ) -> (L, L, L) {
         let [kx, ky, kz] = axes;
-        let dz = L::splat(self.v[3 * v + kz][k]) - origin[2];
+        let dz = L::splat(self.coordinate(3 * v + kz, k)) - origin[2];
         (
-            (L::splat(self.v[3 * v + kx][k]) - origin[0]) + sx * dz,
-            (L::splat(self.v[3 * v + ky][k]) - origin[1]) + sy * dz,
+            (L::splat(self.coordinate(3 * v + kx, k)) - origin[0]) + sx * dz,
+            (L::splat(self.coordinate(3 * v + ky, k)) - origin[1]) + sy * dz,
             dz,
         )
+    }
+
+    /// Row `i` of lane `k`, read through an array: a `Vec4` indexed by a lane number is a
+    /// jump table, its target a coin toss for the predictor.
+    #[inline(always)]
+    fn coordinate(&self, i: usize, k: usize) -> f32 {
+        AsRef::<[f32; 4]>::as_ref(&self.v[i])[k]
     }
 }
 
