@@ -252,7 +252,6 @@ impl<P: PrimitiveSet> Bvh<P> {
         t_max: f32,
         stats: &mut C,
     ) -> Option<Hit> {
-        let data = *data;
         let mut closest = None;
         self.traverse::<C, true, AVX>(
             start,
@@ -263,14 +262,14 @@ impl<P: PrimitiveSet> Bvh<P> {
             |first, count, mut t_max, stats| {
                 stats.prims(count as u64);
                 if self.order.is_empty() {
-                    if let Some(hit) = self.prims.intersect_run(first, count, ray, &data, t_max) {
+                    if let Some(hit) = self.prims.intersect_run(first, count, ray, data, t_max) {
                         t_max = hit.t;
                         closest = Some(hit);
                     }
                     return (t_max, false);
                 }
                 for &prim in &self.order[first..first + count] {
-                    if let Some(hit) = self.prims.intersect(prim, ray, &data, t_max) {
+                    if let Some(hit) = self.prims.intersect(prim, ray, data, t_max) {
                         t_max = hit.t;
                         closest = Some(hit);
                     }
@@ -289,7 +288,6 @@ impl<P: PrimitiveSet> Bvh<P> {
     /// Whether anything below `start` (as in [`Bvh::closest_from`]) blocks `ray`.
     #[inline(always)]
     pub(super) fn any_hit_from<const AVX: bool>(&self, start: u64, ray: &Ray, data: &P::RayData, t_max: f32) -> bool {
-        let data = *data;
         let mut hit = false;
         self.traverse::<(), false, AVX>(
             start,
@@ -299,11 +297,11 @@ impl<P: PrimitiveSet> Bvh<P> {
             #[inline(always)]
             |first, count, t_max, _| {
                 hit = if self.order.is_empty() {
-                    self.prims.occluded_run(first, count, ray, &data, t_max)
+                    self.prims.occluded_run(first, count, ray, data, t_max)
                 } else {
                     self.order[first..first + count]
                         .iter()
-                        .any(|&prim| self.prims.occluded(prim, ray, &data, t_max))
+                        .any(|&prim| self.prims.occluded(prim, ray, data, t_max))
                 };
                 (t_max, hit)
             },
@@ -475,8 +473,8 @@ impl<P: PrimitiveSet> Traverse for Bvh<P> {
         )
     }
 
-    /// The whole batch in one function compiled for the CPU's level, in packets of rays
-    /// (`bvh_packet.rs`).
+    /// The whole batch in one function compiled for the CPU's level, one ray at a time
+    /// (scattered rays: packets did not pay for them, see `bvh_packet.rs`).
     fn closest_batch(&self, rays: &[(Ray, f32)], hits: &mut [Option<Hit>]) {
         penumbra_core::at_level!(
             avx512: self.closest_batch_avx512(rays, hits),

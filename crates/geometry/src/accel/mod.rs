@@ -155,7 +155,7 @@ pub const PAD: u32 = u32::MAX;
 /// What an accelerator is built over: indexable primitives with bounds and a ray test.
 pub trait PrimitiveSet: Send + Sync + 'static {
     /// What the primitives' tests need of a ray, computed once per query.
-    type RayData: Copy;
+    type RayData;
     /// What the packet tests ([`PrimitiveSet::intersect_run_packet`]) need of a packet's
     /// rays, made once per packet (`()` for a set without packet tests).
     type PacketData;
