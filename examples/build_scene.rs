@@ -64,6 +64,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             transform,
             material,
             emission: None,
+            media: None,
             location: None,
         })
     };

@@ -41,6 +41,7 @@ fn add(d: &mut SceneDesc, kind: ShapeKind, material: Phong) {
         kind,
         transform: Transform::IDENTITY,
         emission: None,
+        media: None,
         material: Some(d.materials.len() - 1),
         location: None,
     });

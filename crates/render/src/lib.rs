@@ -10,6 +10,7 @@ pub mod integrators;
 pub mod interface;
 pub mod lights;
 pub mod materials;
+pub mod media;
 pub mod mis;
 pub mod optics;
 pub mod phase;

@@ -8,6 +8,36 @@ use penumbra_core::lanes::{Real, V3};
 use penumbra_core::trig;
 use std::f32::consts::PI;
 
+/// Every phase function a medium may have. Both sample exactly their density, so a
+/// sample's weight p/pdf is 1.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Phase {
+    /// The same in every direction: 1/(4π).
+    Isotropic,
+    HenyeyGreenstein(HenyeyGreenstein),
+}
+
+impl Phase {
+    /// The name of each kind, as scenes spell it (Mitsuba's `isotropic` and `hg`).
+    pub const NAMES: [&'static str; 2] = ["isotropic", "hg"];
+
+    /// p(wo, wi), which is also the density of [`Phase::sample`].
+    pub fn p(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match self {
+            Phase::Isotropic => 0.25 / PI,
+            Phase::HenyeyGreenstein(hg) => hg.p(wo, wi),
+        }
+    }
+
+    /// A direction with density p(wo, ·), and that density.
+    pub fn sample(&self, wo: Vec3, u: Vec2) -> (Vec3, f32) {
+        match self {
+            Phase::Isotropic => (penumbra_core::warp::uniform_sphere(u), 0.25 / PI),
+            Phase::HenyeyGreenstein(hg) => hg.sample(wo, u),
+        }
+    }
+}
+
 /// Henyey and Greenstein's phase function ("Diffuse radiation in the galaxy", ApJ 93,
 /// 1941): p(θ) = (1 - g²) / (4π (1 + g² + 2g cos θ)^{3/2}) with cos θ = wo·wi; `g` in
 /// (-1, 1) is the mean cosine of the deflection (0 isotropic, > 0 forward).
@@ -69,6 +99,27 @@ pub fn sample_hg<R: Real>(g: R, wo: V3<R>, u: (R, R)) -> (V3<R>, R) {
 mod tests {
     use super::*;
     use penumbra_testkit::chi2_directions;
+
+    /// Both kinds of [`Phase`] sample their density (chi-square over the sphere) and
+    /// their densities integrate to 1.
+    #[test]
+    fn every_phase_function_samples_its_density() {
+        let wo = Vec3::new(-0.2, 0.9, 0.1).normalize();
+        let kinds = [Phase::Isotropic, Phase::HenyeyGreenstein(HenyeyGreenstein::new(0.7))];
+        assert_eq!(kinds.len(), Phase::NAMES.len());
+        for (k, phase) in kinds.iter().enumerate() {
+            let r = chi2_directions(
+                70 + k as u64,
+                200_000,
+                |u| Some(phase.sample(wo, u).0),
+                |wi| phase.p(wo, wi),
+            );
+            r.assert_fits(Phase::NAMES[k], kinds.len());
+            assert!((r.integral - 1.0).abs() < 5e-3, "{}: {}", Phase::NAMES[k], r.describe());
+            let (wi, pdf) = phase.sample(wo, Vec2::new(0.3, 0.6));
+            assert!((pdf - phase.p(wo, wi)).abs() < 1e-4 * pdf, "{}", Phase::NAMES[k]);
+        }
+    }
 
     /// Sampling fits p (chi-square over the sphere, 400,000 samples), p integrates to 1,
     /// and the mean cosine of the deflection -wo·wi is g (within 4 standard errors).

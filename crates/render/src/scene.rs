@@ -2,6 +2,7 @@
 //! and lights. Built from a scene description by `penumbra-scene`.
 
 use crate::lights::{AreaLight, Environment, Light, LightSet, SceneSphere};
+use crate::media::{Medium, MediumInterface};
 use crate::{Camera, Filter, Material};
 use glam::Vec3;
 use penumbra_core::{Ray, Rgb};
@@ -29,6 +30,13 @@ pub struct Scene {
     /// The bounding sphere of the finite geometry, where lights at infinity send light
     /// paths; made by [`Scene::prepared`].
     pub sphere: SceneSphere,
+    /// The participating media (empty for a scene in vacuum).
+    pub media: Vec<Medium>,
+    /// The media on the two sides of each scene object that has them (`None`: the object
+    /// is no boundary, a ray crossing it stays in its medium).
+    pub object_media: Vec<Option<MediumInterface>>,
+    /// The medium the camera sits in.
+    pub camera_medium: Option<u32>,
 }
 
 /// A ray's closest surface hit, with what shading needs.
@@ -65,6 +73,11 @@ impl Scene {
             surface,
             wo: -ray.dir.normalize(),
         }
+    }
+
+    /// The media on the two sides of scene object `object`, if it separates media.
+    pub fn media_of(&self, object: u32) -> Option<&MediumInterface> {
+        self.object_media.get(object as usize)?.as_ref()
     }
 
     /// The material of scene object `object`.

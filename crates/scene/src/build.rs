@@ -31,7 +31,20 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
     materials.push(Material::Phong(Phong::default()));
 
     // Descriptions built in code skip the reader's checks: check the references here.
+    let bad_medium = |m: Option<u32>| m.is_some_and(|m| m as usize >= desc.media.len());
+    if bad_medium(desc.camera_medium) {
+        return Err(fail(
+            &desc.camera.location,
+            "the camera is in a medium the scene does not define",
+        ));
+    }
     for s in &desc.shapes {
+        if s.media.is_some_and(|m| bad_medium(m.inside) || bad_medium(m.outside)) {
+            return Err(fail(
+                &s.location,
+                "a shape refers to a medium the scene does not define",
+            ));
+        }
         let bad_material = s.material.is_some_and(|m| m >= desc.materials.len());
         let bad_mesh = matches!(s.kind, ShapeKind::Instance { mesh } if mesh >= desc.meshes.len());
         if bad_material || bad_mesh {
@@ -60,6 +73,7 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         .collect();
     let mut builder = GeometryBuilder::new();
     let mut object_materials = Vec::with_capacity(desc.shapes.len());
+    let mut object_media = Vec::with_capacity(desc.shapes.len());
     let mut emitters = Vec::new();
     for s in &desc.shapes {
         let t = &s.transform;
@@ -90,6 +104,7 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         };
         debug_assert_eq!(object as usize, object_materials.len());
         object_materials.push(s.material.map_or(default_material, |m| m as u32));
+        object_media.push(s.media);
         if let Some(emission) = &s.emission {
             let area = area_lights(&s.kind, t, emission, &desc.meshes).map_err(|e| fail(&s.location, &e))?;
             emitters.push((object, area));
@@ -184,6 +199,9 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         background: desc.background,
         ambient: desc.ambient,
         sphere: (glam::Vec3::ZERO, 1.0),
+        media: desc.media.iter().map(|m| m.medium.clone()).collect(),
+        object_media,
+        camera_medium: desc.camera_medium,
     }
     .prepared())
 }

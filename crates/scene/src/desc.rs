@@ -8,6 +8,7 @@ use penumbra_core::{Rgb, SamplerKind, Transform};
 use penumbra_geometry::{AccelKind, TriangleMesh};
 use penumbra_render::cameras::FovAxis;
 use penumbra_render::integrators::{DirectOptions, Integrator, IntegratorKind, IntegratorOptions};
+use penumbra_render::media::{Medium, MediumInterface};
 use penumbra_render::{Filter, Material, Texture};
 use std::sync::Arc;
 
@@ -23,6 +24,10 @@ pub struct SceneDesc {
     pub shapes: Vec<ShapeDesc>,
     pub lights: Vec<LightDesc>,
     pub environment: Option<EnvironmentDesc>,
+    /// The participating media, which shapes and the camera refer to by index.
+    pub media: Vec<MediumDesc>,
+    /// The medium the camera sits in (an index into `media`).
+    pub camera_medium: Option<u32>,
     /// Every camera of a file that defines several (glTF), in its order, with the image size
     /// each asks for; `camera` is the first. Empty when the file defines one or none.
     pub cameras: Vec<CameraChoice>,
@@ -174,6 +179,14 @@ pub struct MaterialDesc {
     pub material: Material,
 }
 
+/// A named participating medium.
+#[derive(Clone, Debug)]
+pub struct MediumDesc {
+    pub name: String,
+    pub medium: Medium,
+    pub location: Option<Location>,
+}
+
 #[derive(Clone, Debug)]
 pub struct ShapeDesc {
     pub kind: ShapeKind,
@@ -183,6 +196,9 @@ pub struct ShapeDesc {
     pub material: Option<usize>,
     /// Light the surface emits, if it is an area light.
     pub emission: Option<Emission>,
+    /// The media inside and outside the shape (indices into [`SceneDesc::media`]), if it
+    /// bounds a medium.
+    pub media: Option<MediumInterface>,
     pub location: Option<Location>,
 }
 
@@ -295,6 +311,8 @@ impl SceneDesc {
             shapes: Vec::new(),
             lights: Vec::new(),
             environment: None,
+            media: Vec::new(),
+            camera_medium: None,
             cameras: Vec::new(),
             warnings: Vec::new(),
         }

@@ -16,6 +16,7 @@ pub(crate) mod path_diffuse;
 mod photon;
 mod photons;
 mod sppm;
+mod volpath;
 mod whitted;
 
 pub use crate::mis::MisHeuristic;
@@ -27,6 +28,7 @@ pub use path::{PathTracer, BATCH, RR_DEPTH};
 pub use photon::PhotonMapper;
 pub use photons::{Photon, PhotonMap, PhotonOptions};
 pub use sppm::Sppm;
+pub use volpath::VolPath;
 pub use whitted::Whitted;
 
 use crate::bsdfs::TransportMode;
@@ -127,6 +129,7 @@ integrator_kinds! { o;
     Sppm = "sppm" => Sppm::new(o),
     Photon = "photon" => PhotonMapper::new(o),
     Env = "env" => EnvDirect::new(o.env, o.seed),
+    Volpath = "volpath" => VolPath::new(o),
 }
 
 /// The extent of a shadow ray whose direction reaches the light's point: all of it but the

@@ -96,6 +96,22 @@ impl Material {
         }
     }
 
+    /// The surface that is only a boundary between media (Mitsuba's `null` BSDF,
+    /// pbrt-v4's `interface` material): a smooth dielectric of relative index 1, through
+    /// which light goes straight on. Integrators without media see it as a perfectly
+    /// specular pass-through; `volpath` steps over it ([`Material::is_null`]).
+    pub fn null() -> Self {
+        Material::Dielectric(DielectricMaterial {
+            eta: 1.0,
+            ..DielectricMaterial::default()
+        })
+    }
+
+    /// Whether this is the [`Material::null`] boundary.
+    pub fn is_null(&self) -> bool {
+        *self == Material::null()
+    }
+
     /// A plastic material (see [`PlasticMaterial::new`]).
     pub fn plastic(diffuse: Texture, specular: Texture, eta: f32, roughness: Option<Roughness>) -> Self {
         Material::Plastic(PlasticMaterial::new(diffuse, specular, eta, roughness))

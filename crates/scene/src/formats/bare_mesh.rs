@@ -87,6 +87,7 @@ pub fn read(path: &Path) -> Result<SceneDesc, SceneError> {
             transform: Transform::IDENTITY,
             material: Some(desc.materials.len() - 1),
             emission,
+            media: None,
             location: None,
         });
     }

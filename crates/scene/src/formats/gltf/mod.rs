@@ -398,6 +398,7 @@ impl Reader {
             transform: *t,
             material: Some(material),
             emission,
+            media: None,
             location: None,
         });
     }

@@ -111,6 +111,7 @@ pub fn shape(r: &mut Reader, at: At) -> Result<()> {
         transform: to_world,
         material: Some(material),
         emission,
+        media: None,
         location: Some(at.location()),
     });
     Ok(())

@@ -16,6 +16,9 @@
 //!   (isotropic α); the layer's `thickness` (0.01), medium `albedo` (0) and `g` (0),
 //!   `max_depth` (10) and `samples` (1). Always two-sided.
 //!
+//! - `null`: no keys; only a boundary between media (`[[medium]]`), which light crosses
+//!   unchanged (Mitsuba's `null` BSDF, pbrt-v4's `interface` material).
+//!
 //! `diffuse`, `conductor` and `plastic` take `two_sided` (default true): false makes the
 //! back of the surface black, as Mitsuba's BSDFs without `twosided`; a blend's parts keep
 //! their own. Every type takes
@@ -30,7 +33,7 @@ use penumbra_render::materials::{metal_ior, Coated, CoatedBase, Phong, Roughness
 use penumbra_render::materials::{ConductorMaterial, DielectricMaterial, DiffuseMaterial};
 use penumbra_render::{Material, Texture};
 
-const TYPES: [&str; 7] = [
+const TYPES: [&str; 8] = [
     "phong",
     "diffuse",
     "conductor",
@@ -38,6 +41,7 @@ const TYPES: [&str; 7] = [
     "plastic",
     "blend",
     "coated",
+    "null",
 ];
 
 pub fn read_all(tables: &[Table]) -> Result<Vec<MaterialDesc>> {
@@ -60,6 +64,7 @@ pub fn read_all(tables: &[Table]) -> Result<Vec<MaterialDesc>> {
             "phong" => Material::Phong(read_phong(t)?),
             "dielectric" => read_dielectric(t)?,
             "coated" => read_coated(t)?,
+            "null" => Material::null(),
             other => {
                 let m = match other {
                     "diffuse" => Material::Diffuse(DiffuseMaterial {

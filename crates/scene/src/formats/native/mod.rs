@@ -5,6 +5,7 @@
 //! instancing), `[[shape]]` and `[[light]]`. Paths are relative to the scene file.
 
 mod material;
+mod medium;
 mod shape;
 
 use crate::desc::{CameraDesc, CameraKind, EnvironmentDesc, EnvironmentSource, LightDesc, RenderDesc, SceneDesc};
@@ -24,12 +25,14 @@ pub fn read(file: &Arc<SourceFile>) -> Result<SceneDesc> {
     let root = parse_toml(file)?;
     let top = Table::new(file, root.get_ref(), root.span());
     let mut desc = SceneDesc::empty();
+    desc.media = medium::read_all(&top.tables("medium")?)?;
     if let Some(t) = top.table("render")? {
         desc.render = read_render(&t)?;
         t.finish()?;
     }
     if let Some(t) = top.table("camera")? {
         desc.camera = read_camera(&t)?;
+        desc.camera_medium = medium::reference(&t, "medium", &desc.media)?;
         t.finish()?;
     }
     if let Some(t) = top.table("world")? {
@@ -50,8 +53,14 @@ pub fn read(file: &Arc<SourceFile>) -> Result<SceneDesc> {
     let materials = material::read_all(&top.tables("material")?)?;
     let meshes = shape::read_meshes(file, &top.tables("mesh")?, &mut desc.warnings)?;
     for t in top.tables("shape")? {
-        desc.shapes
-            .push(shape::read(file, &t, &materials, &meshes, &mut desc.warnings)?);
+        desc.shapes.push(shape::read(
+            file,
+            &t,
+            &materials,
+            &desc.media,
+            &meshes,
+            &mut desc.warnings,
+        )?);
         t.finish()?;
     }
     desc.materials = materials;

@@ -6,13 +6,15 @@
 //! `{ matrix = [16 numbers, row by row] }`.
 
 use super::choice;
-use crate::desc::{Emission, MaterialDesc, ShapeDesc, ShapeKind};
+use super::medium;
+use crate::desc::{Emission, MaterialDesc, MediumDesc, ShapeDesc, ShapeKind};
 use crate::formats::{obj, ply};
 use crate::params::{Result, Table, Value};
 use crate::{SceneError, SourceFile};
 use glam::{Mat4, Vec2, Vec3};
 use penumbra_core::Transform;
 use penumbra_geometry::TriangleMesh;
+use penumbra_render::media::MediumInterface;
 use std::sync::Arc;
 
 const SHAPES: [&str; 7] = ["sphere", "plane", "quad", "disk", "box", "mesh", "instance"];
@@ -43,6 +45,7 @@ pub fn read(
     file: &Arc<SourceFile>,
     t: &Table,
     materials: &[MaterialDesc],
+    media: &[MediumDesc],
     meshes: &[(String, Arc<TriangleMesh>)],
     warnings: &mut Vec<String>,
 ) -> Result<ShapeDesc> {
@@ -122,11 +125,16 @@ pub fn read(
         None => Transform::IDENTITY,
     };
     let emission = emission(file, t, &kind, warnings)?;
+    let (inside, outside) = (
+        medium::reference(t, "interior", media)?,
+        medium::reference(t, "exterior", media)?,
+    );
     Ok(ShapeDesc {
         kind,
         transform,
         material,
         emission,
+        media: (inside.is_some() || outside.is_some()).then_some(MediumInterface { inside, outside }),
         location: Some(t.location()),
     })
 }
@@ -167,7 +175,7 @@ fn emission(file: &SourceFile, t: &Table, kind: &ShapeKind, warnings: &mut Vec<S
     }))
 }
 
-fn names<'a>(it: impl Iterator<Item = &'a String>) -> String {
+pub(super) fn names<'a>(it: impl Iterator<Item = &'a String>) -> String {
     let v: Vec<&str> = it.map(String::as_str).collect();
     if v.is_empty() {
         "none".into()

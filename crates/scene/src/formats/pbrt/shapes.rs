@@ -101,6 +101,7 @@ pub fn shape(r: &mut Reader, kind: &str, p: &Params, file: &SourceFile, here: Lo
         transform: r.state.ctm,
         material: Some(material),
         emission: r.state.area.clone(),
+        media: None,
         location: Some(here),
     }))
 }
