@@ -156,3 +156,44 @@ fn without_media_volpath_is_path() {
     assert_eq!(path, volpath);
     assert!(path[0].0 > 0.0);
 }
+
+/// A camera inside a black sphere that emits radiance 1 from its inside, filled with a
+/// medium of albedo 1, sees 1 in every channel: every path ends on the sphere. The light
+/// is an area light, sampled from points in the medium and met by phase-sampled rays.
+/// Within 3 standard errors (0.1-0.25% over a million paths).
+#[test]
+fn a_white_medium_inside_an_emitting_sphere_is_its_radiance() {
+    // A boundary (the same medium on both sides) just inside the light: light samples'
+    // shadow rays cross it 0.02 short of the light. (Going on from the pushed-off crossing
+    // point in the old direction, they used to meet the light itself and count it as a
+    // blocker: 0.4-1.1% too dark, 10-20 standard errors at 4 million paths.)
+    let null_shell = "[[material]]\nname = \"boundary\"\ntype = \"null\"\n\n\
+         [[shape]]\ntype = \"sphere\"\nradius = 1.98\nmaterial = \"boundary\"\ninterior = \"cloud\"\nexterior = \"cloud\"\n";
+    for (what, medium, extra) in [
+        ("isotropic", "sigma_a = 0\nsigma_s = [0.5, 1.0, 2.0]", ""),
+        ("forward HG", "sigma_a = 0\nsigma_s = 1.5\nphase = \"hg\"\ng = 0.6", ""),
+        (
+            "isotropic, a boundary just inside",
+            "sigma_a = 0\nsigma_s = [0.5, 1.0, 2.0]",
+            null_shell,
+        ),
+    ] {
+        let scene = scene_from(&format!(
+            "[camera]\nposition = [0, 0, 0]\ntarget = [0, 0, -1]\nmedium = \"cloud\"\n\n\
+             [[medium]]\nname = \"cloud\"\n{medium}\n\n\
+             [[material]]\nname = \"black\"\ntype = \"diffuse\"\nreflectance = 0\n\n\
+             [[shape]]\ntype = \"sphere\"\nradius = 2\nmaterial = \"black\"\nemission = 1\ntwo_sided = true\ninterior = \"cloud\"\n{extra}"
+        ));
+        let result = estimate(&scene, IntegratorKind::Volpath, MAX_DEPTH_LIMIT, 1_000_000, |i| {
+            let (a, b) = (i as f32 * 0.618_034, i as f32 * 0.414_214);
+            Ray::new(
+                Vec3::new(0.5 * a.cos(), 0.5 * b.sin(), 0.3),
+                Vec3::new(a.sin(), b.cos(), (a + b).sin()),
+            )
+        });
+        for (c, (mean, se)) in result.into_iter().enumerate() {
+            println!("{what}, channel {c}: {mean:.5} +- {se:.5}");
+            assert_within_3se(&format!("{what}, channel {c}"), mean, se, 1.0, 1e-4);
+        }
+    }
+}

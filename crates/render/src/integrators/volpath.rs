@@ -14,7 +14,7 @@
 //! A scene without media is rendered by `path` itself: the same image, bit for bit.
 
 use super::nee::Shading;
-use super::{Integrator, IntegratorOptions, PathTracer, RayCounts, Splat, SHADOW_T_MAX};
+use super::{Integrator, IntegratorOptions, PathTracer, RayCounts, Splat};
 use crate::bsdfs::TransportMode;
 use crate::interface::Progress;
 use crate::lights::{AreaSampling, LightSelection};
@@ -22,7 +22,7 @@ use crate::media::{channel, Medium, MediumInterface, Segment, Step, Tracker};
 use crate::phase::Phase;
 use crate::Scene;
 use glam::Vec3;
-use penumbra_core::ray::offset_origin;
+use penumbra_core::ray::{offset_origin, SHADOW_EPSILON};
 use penumbra_core::{Pcg32, PixelSampler, Ray, Rgb};
 
 pub struct VolPath {
@@ -308,12 +308,7 @@ impl VolPath {
         if f.is_black() {
             return Rgb::BLACK;
         }
-        let reach = if ls.dist.is_finite() {
-            ls.dist * SHADOW_T_MAX
-        } else {
-            f32::INFINITY
-        };
-        let Some(tr) = transmittance(scene, (origin, ls.wi, reach), medium, s, counts) else {
+        let Some(tr) = transmittance(scene, (origin, ls.wi, ls.dist), medium, s, counts) else {
             return Rgb::BLACK;
         };
         let r_l = w.r_u * tr.r_l * (p_pick * ls.pdf);
@@ -401,24 +396,44 @@ struct Transmittance {
 }
 
 /// Ratio tracking (Novák et al. 2014, pbrt-v4's `SampleLd` loop) from `origin` along the
-/// unit `dir` over `reach`, starting in `medium`: through every medium met, stepping over
-/// boundaries ([`crate::Material::null`]) and switching media there; `None` where a surface
-/// blocks the ray or the estimate is zero. The estimate is cut by Russian roulette (kept
-/// with probability 1/4) where it falls below 0.05.
+/// unit `dir` to the light's point at distance `dist` (infinite for lights at infinity),
+/// starting in `medium`: through every medium met, stepping over boundaries
+/// ([`crate::Material::null`]) and switching media there; `None` where a surface blocks the
+/// ray or the estimate is zero. The estimate is cut by Russian roulette (kept with
+/// probability 1/4) where it falls below 0.05.
+///
+/// After each boundary the ray is aimed again from where it now starts (pushed off the
+/// boundary) at the light's point, and ends short of it by [`SHADOW_EPSILON`] of the whole
+/// distance (pbrt-v4's `SpawnRayTo`): going on along the old direction from the pushed-off
+/// point, or shortening the extent by the boundary's hit distance, carried the ray onto the
+/// light itself where the light lies just beyond a boundary (it was then taken as blocked).
 fn transmittance(
     scene: &Scene,
-    (mut origin, dir, mut reach): (Vec3, Vec3, f32),
+    (mut origin, dir, dist): (Vec3, Vec3, f32),
     mut medium: Option<u32>,
     s: &mut PathSampling,
     counts: &mut RayCounts,
 ) -> Option<Transmittance> {
     let hero = s.hero;
+    let target = origin + dir * dist;
+    let margin = dist * SHADOW_EPSILON;
     let mut tr = Transmittance {
         t: Rgb::WHITE,
         r_l: Rgb::WHITE,
         r_u: Rgb::WHITE,
     };
+    let mut dir = dir;
     loop {
+        let reach = if dist.is_finite() {
+            let to_target = target - origin;
+            dir = to_target.normalize_or(dir);
+            to_target.length() - margin
+        } else {
+            f32::INFINITY
+        };
+        if reach <= 0.0 {
+            return Some(tr);
+        }
         counts.shadow += 1;
         let ray = Ray::new(origin, dir);
         let hit = scene.accel.intersect(&ray, reach);
@@ -463,14 +478,13 @@ fn transmittance(
                 }
             }
         }
-        let (Some(hit), Some(it)) = (hit, it) else {
+        let Some(it) = it else {
             return Some(tr);
         };
         if let Some(mi) = scene.media_of(it.surface.object) {
             medium = mi.towards(it.surface.ng, dir);
         }
         origin = beyond(it.surface.p, it.surface.ng, dir);
-        reach -= hit.t;
     }
 }
 

@@ -73,6 +73,8 @@ pub fn bsdf(r: &mut Reader, at: At) -> Result<Material> {
         "diffuse" => Material::Diffuse(DiffuseMaterial {
             reflectance: p.texture(r, "reflectance", 0.5, false)?,
         }),
+        // Only a boundary between media.
+        "null" => Material::null(),
         "twosided" => {
             let inner = nested_bsdfs(r, &p, 1)?.remove(0);
             Material::TwoSided(Box::new(inner))

@@ -10,6 +10,7 @@
 
 mod bsdfs;
 mod emitters;
+mod media;
 mod plugins;
 mod props;
 mod shapes;
@@ -35,6 +36,7 @@ pub fn read(path: &Path, defines: &[(String, String)]) -> Result<SceneDesc> {
         params: defines.iter().cloned().collect(),
         bsdfs: HashMap::new(),
         textures: HashMap::new(),
+        media: HashMap::new(),
         warned: BTreeMap::new(),
         stack: Vec::new(),
         seen_sensor: false,
@@ -96,6 +98,8 @@ struct Reader {
     pub bsdfs: HashMap<String, usize>,
     /// Textures by id.
     pub textures: HashMap<String, Texture>,
+    /// Media by id: their index in the scene's media.
+    pub media: HashMap<String, u32>,
     /// One warning per kind: kind -> text, in kind order.
     warned: BTreeMap<String, String>,
     /// The files being read, for cyclic includes.
@@ -259,10 +263,13 @@ impl Reader {
             }
             "shape" => shapes::shape(self, at)?,
             "emitter" => emitters::emitter(self, at)?,
-            "medium" | "phase" | "volume" => self.warn_once(
-                "media",
+            "medium" => {
+                media::medium(self, at)?;
+            }
+            "phase" | "volume" => self.warn_once(
+                at.tag(),
                 format!(
-                    "{}: participating media are not supported: <{}> is skipped",
+                    "{}: a <{}> at the top level is not used (give it inside its medium): skipped",
                     at.place(),
                     at.tag()
                 ),

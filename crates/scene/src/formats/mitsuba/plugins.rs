@@ -82,6 +82,9 @@ pub fn integrator(r: &mut Reader, at: At) -> Result<()> {
         // Mitsuba 0.6's photon mappers.
         "sppm" => IntegratorKind::Sppm,
         "photonmapper" => IntegratorKind::Photon,
+        // Mitsuba 3's volumetric path tracers (`volpathmis`: with spectral MIS, which
+        // ours always does).
+        "volpath" | "volpathmis" => IntegratorKind::Volpath,
         other => {
             let text = format!(
                 "{}: integrator `{other}` is not supported: rendered with `path`",
@@ -165,6 +168,7 @@ pub fn sensor(r: &mut Reader, at: At) -> Result<()> {
         }
     };
     let to_world = p.transform(r, "to_world")?;
+    r.desc.camera_medium = super::media::sensor_medium(r, &p)?;
     let fov_axis = match p.string(r, "fov_axis")? {
         None => FovAxis::X,
         Some((s, v)) => match s.as_str() {

@@ -83,6 +83,7 @@ pub fn shape(r: &mut Reader, at: At) -> Result<()> {
     };
     let mut pending = Vec::new();
     let material = shape_material(r, &p, &mut pending)?;
+    let media = super::media::shape_media(r, &p)?;
     let mut emission = None;
     for e in p.nested("emitter") {
         let ep = r.props(e);
@@ -111,7 +112,7 @@ pub fn shape(r: &mut Reader, at: At) -> Result<()> {
         transform: to_world,
         material: Some(material),
         emission,
-        media: None,
+        media,
         location: Some(at.location()),
     });
     Ok(())

@@ -124,6 +124,8 @@ pub(super) fn material(r: &mut Reader, kind: &str, p: &Params, here: Location) -
             roughness: roughness(p, "")?,
             ..layer(r, p)?
         }),
+        // Only a boundary between media.
+        "interface" => Material::null(),
         "mix" => {
             let names = p.strings("materials")?.unwrap_or_default();
             if names.len() != 2 {

@@ -10,6 +10,7 @@
 //! mirror it. Errors name the file, line and column of the token at fault.
 
 mod materials;
+mod media;
 mod objects;
 mod params;
 mod shapes;
@@ -41,6 +42,7 @@ pub fn read(path: &Path) -> Result<SceneDesc> {
         saved: Vec::new(),
         named_coords: HashMap::new(),
         named_materials: HashMap::new(),
+        media: HashMap::new(),
         textures: HashMap::new(),
         objects: HashMap::new(),
         object: None,
@@ -95,6 +97,8 @@ struct State {
     /// Index of the current material; `None`: pbrt's default (diffuse 0.5).
     material: Option<usize>,
     area: Option<Emission>,
+    /// The current `MediumInterface`: the media inside and outside.
+    media: (Option<u32>, Option<u32>),
 }
 
 impl Default for State {
@@ -104,6 +108,7 @@ impl Default for State {
             reverse: false,
             material: None,
             area: None,
+            media: (None, None),
         }
     }
 }
@@ -115,6 +120,8 @@ struct Reader {
     saved: Vec<(State, Location)>,
     named_coords: HashMap<String, Transform>,
     named_materials: HashMap<String, usize>,
+    /// Media by name: their index in the scene's media, `None` for kinds not read.
+    media: HashMap<String, Option<u32>>,
     textures: HashMap<String, Texture>,
     objects: HashMap<String, Vec<ShapeDesc>>,
     /// The instance being defined, and the shapes before it began.
@@ -311,18 +318,30 @@ impl Reader {
                 self.state.ctm = Transform::IDENTITY;
                 self.named_coords.insert("world".into(), Transform::IDENTITY);
             }
-            "WorldEnd" | "Accelerator" | "Option" | "ColorSpace" | "MakeNamedMedium" | "MediumInterface" => {
+            "MakeNamedMedium" => {
+                let n = c.string("a medium name")?;
+                let p = c.params()?;
+                media::make_named(self, n, &p, here)?;
+            }
+            "MediumInterface" => {
+                let inside = c.string("a medium name")?;
+                let outside = match c.toks.get(c.i).map(|t| &t.tok) {
+                    Some(Tok::Str(s)) => {
+                        let s = s.clone();
+                        c.i += 1;
+                        s
+                    }
+                    _ => inside.clone(),
+                };
+                self.state.media = (
+                    media::named(self, &inside, &here)?,
+                    media::named(self, &outside, &here)?,
+                );
+            }
+            "WorldEnd" | "Accelerator" | "Option" | "ColorSpace" => {
                 let (what, args) = match name.as_str() {
                     "Option" => ("options", c.params().map(|_| ())),
                     "ColorSpace" => ("color spaces", c.string("a colour space").map(|_| ())),
-                    "MediumInterface" => {
-                        let first = c.string("a medium");
-                        if matches!(c.toks.get(c.i).map(|t| &t.tok), Some(Tok::Str(_))) {
-                            c.i += 1;
-                        }
-                        ("media", first.map(|_| ()))
-                    }
-                    "MakeNamedMedium" => ("media", c.string("a name").and_then(|_| c.params()).map(|_| ())),
                     "Accelerator" => (
                         "accelerator choices",
                         c.string("a type").and_then(|_| c.params()).map(|_| ()),
@@ -417,6 +436,7 @@ impl Reader {
                 let kind = c.string("a camera type")?;
                 let p = c.params()?;
                 objects::camera(self, &kind, &p, here)?;
+                self.desc.camera_medium = self.state.media.1;
             }
             "Film" | "Sampler" | "PixelFilter" | "Integrator" => {
                 let kind = c.string("a type")?;

@@ -179,7 +179,8 @@ pub fn setting(r: &mut Reader, directive: &str, kind: &str, p: &Params, here: Lo
         _ => {
             use penumbra_render::integrators::IntegratorKind;
             r.desc.render.integrator = match kind {
-                "path" | "volpath" => IntegratorKind::Path,
+                "path" => IntegratorKind::Path,
+                "volpath" => IntegratorKind::Volpath,
                 "bdpt" => {
                     for flag in ["visualizestrategies", "visualizeweights"] {
                         if p.bool(flag, false)? {

@@ -101,7 +101,7 @@ pub fn shape(r: &mut Reader, kind: &str, p: &Params, file: &SourceFile, here: Lo
         transform: r.state.ctm,
         material: Some(material),
         emission: r.state.area.clone(),
-        media: None,
+        media: super::media::of_shape(r.state.media.0, r.state.media.1),
         location: Some(here),
     }))
 }
