@@ -18,7 +18,7 @@ use super::{Integrator, IntegratorOptions, PathTracer, RayCounts, Splat};
 use crate::bsdfs::TransportMode;
 use crate::interface::Progress;
 use crate::lights::{AreaSampling, LightSelection};
-use crate::media::{channel, Medium, MediumInterface, Segment, Step, Tracker};
+use crate::media::{attenuation, channel, Medium, MediumInterface, Segment, Step, Tracker};
 use crate::phase::Phase;
 use crate::Scene;
 use glam::Vec3;
@@ -335,10 +335,13 @@ impl VolPath {
     }
 }
 
-/// Delta tracking of `ray` (unit direction) through `medium` up to `t_max`: at each
-/// tentative collision, absorption, real scattering or a null collision, chosen by the
-/// hero channel's σa/σ_maj and σs/σ_maj; `w` updated as pbrt-v4 does (β and r_u by the
-/// collision's probability in the hero channel, r_l by the majorant's).
+/// Delta tracking of `ray` (unit direction) through `medium` up to `t_max`: each tentative
+/// collision is real with the hero channel's probability σt/σ_maj, else null. A real
+/// collision always scatters, its throughput weighted by σs (the albedo, where pbrt-v4
+/// draws absorption as an event that ends the path: the weight, as Mitsuba's `volpath`
+/// uses it, keeps the paths that absorption would end and leaves them to Russian roulette,
+/// which costs less variance); its density σt T_maj goes into r_u. A null collision
+/// weights β and r_u by σn T_maj over its density and r_l by σ_maj T_maj (pbrt-v4).
 fn fly(medium: &Medium, ray: &Ray, t_max: f32, w: &mut Weights, s: &mut PathSampling) -> Flight {
     let hero = s.hero;
     let mut walk = Tracker::new(medium, (ray.origin, ray.dir, t_max), hero, &mut s.segments);
@@ -357,20 +360,18 @@ fn fly(medium: &Medium, ray: &Ray, t_max: f32, w: &mut Weights, s: &mut PathSamp
             Step::Collision { t, sigma_maj, t_maj } => {
                 let p = ray.at(t);
                 let mp = medium.at(p);
-                let sm = channel(sigma_maj, hero);
-                let (p_absorb, p_scatter) = (channel(mp.sigma_a, hero) / sm, channel(mp.sigma_s, hero) / sm);
-                let u = s.rng.next_f32();
-                if u < p_absorb {
-                    return Flight::Absorbed;
-                }
+                let sigma_t = mp.sigma_t();
                 let t_hero = channel(t_maj, hero);
-                if u < p_absorb + p_scatter {
-                    let pdf = t_hero * channel(mp.sigma_s, hero);
+                if s.rng.next_f32() * channel(sigma_maj, hero) < channel(sigma_t, hero) {
+                    let pdf = t_hero * channel(sigma_t, hero);
                     w.beta *= t_maj * mp.sigma_s / pdf;
-                    w.r_u *= t_maj * mp.sigma_s / pdf;
+                    w.r_u *= t_maj * sigma_t / pdf;
+                    if w.beta.is_black() {
+                        return Flight::Absorbed;
+                    }
                     return Flight::Scattered { p, phase: mp.phase };
                 }
-                let sigma_n = (sigma_maj - mp.sigma_t()).max(Rgb::BLACK);
+                let sigma_n = (sigma_maj - sigma_t).max(Rgb::BLACK);
                 let pdf = t_hero * channel(sigma_n, hero);
                 if pdf == 0.0 {
                     return Flight::Absorbed;
@@ -444,38 +445,20 @@ fn transmittance(
         if let Some(m) = medium {
             let m = &scene.media[m as usize];
             let end = hit.map_or(reach, |h| h.t);
-            let mut walk = Tracker::new(m, (origin, dir, end), hero, &mut s.segments);
-            loop {
-                match walk.step(&mut s.rng) {
-                    Step::Collision { t, sigma_maj, t_maj } => {
-                        let sigma_n = (sigma_maj - m.at(ray.at(t)).sigma_t()).max(Rgb::BLACK);
-                        let pdf = channel(t_maj, hero) * channel(sigma_maj, hero);
-                        tr.t *= t_maj * sigma_n / pdf;
-                        tr.r_l *= t_maj * sigma_maj / pdf;
-                        tr.r_u *= t_maj * sigma_n / pdf;
-                        let estimate = tr.t / (tr.r_l + tr.r_u).mean();
-                        if estimate.max_component() < 0.05 {
-                            tr.t = if s.rng.next_f32() < 0.75 {
-                                Rgb::BLACK
-                            } else {
-                                tr.t / 0.25
-                            };
-                        }
-                        if tr.t.is_black() {
-                            return None;
-                        }
-                    }
-                    Step::End { t_maj } => {
-                        let p = channel(t_maj, hero);
-                        if p == 0.0 {
-                            return None;
-                        }
-                        tr.t *= t_maj / p;
-                        tr.r_l *= t_maj / p;
-                        tr.r_u *= t_maj / p;
-                        break;
-                    }
+            if m.is_homogeneous() {
+                // The expectation of ratio tracking's estimate, which is binary here (no
+                // null collisions): passing, with the hero channel's probability T, it
+                // weighs T/T_hero into the estimate and the two r's.
+                let t = attenuation(m.at(origin).sigma_t(), end);
+                let p = channel(t, hero);
+                if p == 0.0 {
+                    return None;
                 }
+                tr.t *= t;
+                tr.r_l *= t / p;
+                tr.r_u *= t / p;
+            } else if !ratio_tracking(m, &ray, end, s, &mut tr) {
+                return None;
             }
         }
         let Some(it) = it else {
@@ -485,6 +468,45 @@ fn transmittance(
             medium = mi.towards(it.surface.ng, dir);
         }
         origin = beyond(it.surface.p, it.surface.ng, dir);
+    }
+}
+
+/// Ratio tracking of `ray` (unit direction) through `m` over `[0, end)` into `tr`, as
+/// pbrt-v4's `SampleLd`; whether the estimate is still above zero.
+fn ratio_tracking(m: &Medium, ray: &Ray, end: f32, s: &mut PathSampling, tr: &mut Transmittance) -> bool {
+    let hero = s.hero;
+    let mut walk = Tracker::new(m, (ray.origin, ray.dir, end), hero, &mut s.segments);
+    loop {
+        match walk.step(&mut s.rng) {
+            Step::Collision { t, sigma_maj, t_maj } => {
+                let sigma_n = (sigma_maj - m.at(ray.at(t)).sigma_t()).max(Rgb::BLACK);
+                let pdf = channel(t_maj, hero) * channel(sigma_maj, hero);
+                tr.t *= t_maj * sigma_n / pdf;
+                tr.r_l *= t_maj * sigma_maj / pdf;
+                tr.r_u *= t_maj * sigma_n / pdf;
+                let estimate = tr.t / (tr.r_l + tr.r_u).mean();
+                if estimate.max_component() < 0.05 {
+                    tr.t = if s.rng.next_f32() < 0.75 {
+                        Rgb::BLACK
+                    } else {
+                        tr.t / 0.25
+                    };
+                }
+                if tr.t.is_black() {
+                    return false;
+                }
+            }
+            Step::End { t_maj } => {
+                let p = channel(t_maj, hero);
+                if p == 0.0 {
+                    return false;
+                }
+                tr.t *= t_maj / p;
+                tr.r_l *= t_maj / p;
+                tr.r_u *= t_maj / p;
+                return true;
+            }
+        }
     }
 }
 

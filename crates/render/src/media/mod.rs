@@ -16,7 +16,7 @@ mod homogeneous;
 mod tracker;
 
 pub use homogeneous::Homogeneous;
-pub use tracker::{Step, Tracker};
+pub use tracker::{attenuation, Step, Tracker};
 
 use crate::phase::Phase;
 use glam::Vec3;

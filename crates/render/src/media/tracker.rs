@@ -76,7 +76,7 @@ impl<'a> Tracker<'a> {
 
 /// exp(-σ d) per channel; an infinite `d` counts as the largest float, so that a channel
 /// with σ = 0 keeps 1 (pbrt-v4's rule).
-fn attenuation(sigma: Rgb, d: f32) -> Rgb {
+pub fn attenuation(sigma: Rgb, d: f32) -> Rgb {
     let d = if d.is_finite() { d } else { f32::MAX };
     sigma.map(|s| if s == 0.0 { 1.0 } else { (-s * d).exp() })
 }

@@ -146,20 +146,97 @@ fn unsupported_kinds_warn_once_each() {
     <shape type="serialized"/>
     <shape type="cube"><float name="glow" value="1"/></shape>
     <shape type="cube"><float name="glow" value="2"/></shape>
-    <medium type="homogeneous"/>
-    <integrator type="volpath"/>
+    <medium type="heterogeneous"/>
+    <medium type="heterogeneous"/>
+    <integrator type="ptracer"/>
 </scene>"#;
     let dir = folder(&[("a.xml", scene)]);
     let desc = read(&dir.path().join("a.xml"), &[]).unwrap();
     let count = |needle: &str| desc.warnings.iter().filter(|w| w.contains(needle)).count();
     assert_eq!(count("serialized"), 1, "{:?}", desc.warnings);
     assert_eq!(count("`glow`"), 1, "{:?}", desc.warnings);
-    assert_eq!(count("media"), 1, "{:?}", desc.warnings);
-    assert_eq!(count("volpath"), 1, "{:?}", desc.warnings);
+    assert_eq!(count("heterogeneous"), 1, "{:?}", desc.warnings);
+    assert_eq!(count("ptracer"), 1, "{:?}", desc.warnings);
     assert!(
         desc.warnings.iter().all(|w| w.contains("a.xml:")),
         "{:?}",
         desc.warnings
     );
     assert_eq!(desc.shapes.len(), 2);
+}
+
+/// A top-level medium referred to by id, one nested as `exterior`, the sensor's medium,
+/// the `null` BSDF and `volpath`; bad references and phase parameters name their place.
+#[test]
+fn media_are_read_where_mitsuba_puts_them() {
+    use penumbra_render::integrators::IntegratorKind;
+    use penumbra_render::media::{Homogeneous, Medium, MediumInterface};
+    use penumbra_render::phase::{HenyeyGreenstein, Phase};
+    let scene = r#"<scene version="3.0.0">
+    <integrator type="volpathmis"/>
+    <medium type="homogeneous" id="fog">
+        <rgb name="albedo" value="0.5, 0.25, 1"/>
+        <float name="sigma_t" value="2"/>
+        <float name="scale" value="0.5"/>
+        <phase type="hg"><float name="g" value="0.4"/></phase>
+    </medium>
+    <sensor type="perspective"><ref id="fog"/></sensor>
+    <shape type="sphere">
+        <bsdf type="null"/>
+        <ref name="interior" id="fog"/>
+        <medium type="homogeneous" name="exterior">
+            <volume type="constvolume" name="albedo"><float name="value" value="0.5"/></volume>
+        </medium>
+    </shape>
+</scene>"#;
+    let dir = folder(&[("a.xml", scene)]);
+    let desc = read(&dir.path().join("a.xml"), &[]).unwrap();
+    assert!(desc.warnings.is_empty(), "{:?}", desc.warnings);
+    assert_eq!(desc.render.integrator, IntegratorKind::Volpath);
+    assert_eq!(desc.camera_medium, Some(0));
+    assert_eq!(
+        desc.media[0].medium,
+        Medium::Homogeneous(Homogeneous::from_albedo(
+            penumbra_core::Rgb::new(0.5, 0.25, 1.0),
+            penumbra_core::Rgb::splat(1.0),
+            Phase::HenyeyGreenstein(HenyeyGreenstein::new(0.4)),
+        ))
+    );
+    assert_eq!(
+        desc.media[1].medium,
+        Medium::Homogeneous(Homogeneous::from_albedo(
+            penumbra_core::Rgb::splat(0.5),
+            penumbra_core::Rgb::splat(1.0),
+            Phase::Isotropic,
+        ))
+    );
+    assert_eq!(
+        desc.shapes[0].media,
+        Some(MediumInterface {
+            inside: Some(0),
+            outside: Some(1)
+        })
+    );
+    assert!(desc.materials[desc.shapes[0].material.unwrap()].material.is_null());
+
+    for (text, at, needle) in [
+        (
+            "<scene version=\"3.0.0\">\n  <shape type=\"sphere\">\n    <ref name=\"interior\" id=\"nope\"/>\n  </shape>\n</scene>",
+            "a.xml:3:",
+            "no medium with id `nope`",
+        ),
+        (
+            "<scene version=\"3.0.0\">\n  <medium type=\"homogeneous\">\n    <phase type=\"hg\"><float name=\"g\" value=\"1\"/></phase>\n  </medium>\n</scene>",
+            "a.xml:3:",
+            "(-1, 1)",
+        ),
+        (
+            "<scene version=\"3.0.0\">\n  <medium type=\"homogeneous\">\n    <rgb name=\"albedo\" value=\"2\"/>\n  </medium>\n</scene>",
+            "a.xml:2:",
+            "albedo must lie in [0, 1]",
+        ),
+    ] {
+        let got = error_at(&[("a.xml", text)], |p| read(p, &[]));
+        assert!(got.starts_with(at) && got.contains(needle), "expected {at} ... {needle}, got {got}");
+    }
 }

@@ -556,3 +556,94 @@ fn bad_textures_are_errors_naming_the_file_and_line() {
         );
     }
 }
+
+/// `[[medium]]` in both forms, a shape's `interior`/`exterior`, the camera's `medium`, the
+/// `null` material.
+#[test]
+fn media_are_read_and_referred_to() {
+    use penumbra_render::media::{Homogeneous, Medium, MediumInterface};
+    use penumbra_render::phase::{HenyeyGreenstein, Phase};
+    let d = parse(
+        r#"
+        [camera]
+        medium = "fog"
+
+        [[medium]]
+        name = "fog"
+        sigma_a = [0.1, 0.2, 0.3]
+        sigma_s = 2
+        scale = 0.5
+
+        [[medium]]
+        name = "milk"
+        albedo = 0.5
+        sigma_t = 4
+        phase = "hg"
+        g = 0.3
+
+        [[material]]
+        name = "b"
+        type = "null"
+
+        [[shape]]
+        type = "sphere"
+        material = "b"
+        interior = "milk"
+        exterior = "fog"
+
+        [[shape]]
+        type = "sphere"
+        "#,
+    );
+    assert_eq!(d.camera_medium, Some(0));
+    assert_eq!(
+        d.media[0].medium,
+        Medium::Homogeneous(Homogeneous {
+            sigma_a: Rgb::new(0.05, 0.1, 0.15),
+            sigma_s: Rgb::splat(1.0),
+            phase: Phase::Isotropic,
+        })
+    );
+    assert_eq!(
+        d.media[1].medium,
+        Medium::Homogeneous(Homogeneous {
+            sigma_a: Rgb::splat(2.0),
+            sigma_s: Rgb::splat(2.0),
+            phase: Phase::HenyeyGreenstein(HenyeyGreenstein::new(0.3)),
+        })
+    );
+    assert_eq!(
+        d.shapes[0].media,
+        Some(MediumInterface {
+            inside: Some(1),
+            outside: Some(0)
+        })
+    );
+    assert_eq!(d.shapes[1].media, None);
+    assert!(d.materials[0].material.is_null());
+}
+
+#[test]
+fn bad_media_are_errors_naming_the_line() {
+    let m = "[[medium]]\nname = \"m\"\n";
+    let cases: Vec<(String, &str, usize)> = vec![
+        (format!("{m}sigma_a = 1\nalbedo = 0.5\n"), "not both", 1),
+        (format!("{m}albedo = 1.5\n"), "at most 1", 3),
+        (format!("{m}sigma_s = -1\n"), "must not be negative", 3),
+        (format!("{m}phase = \"hg\"\ng = 1\n"), "(-1, 1)", 4),
+        (format!("{m}phase = \"rayleigh\"\n"), "unknown phase function", 3),
+        (format!("{m}type = \"cloud\"\n"), "unknown medium type", 3),
+        (format!("{m}{m}"), "defined twice", 4),
+        (
+            "[[shape]]\ntype = \"sphere\"\ninterior = \"fog\"\n".into(),
+            "no medium named `fog`",
+            3,
+        ),
+        (format!("{m}[camera]\nmedium = \"n\"\n"), "no medium named `n`", 4),
+    ];
+    for (text, needle, line) in cases {
+        let (message, at) = error_of(&text);
+        assert!(message.contains(needle), "{text}: {message}");
+        assert_eq!(at, Some(line), "{text}: {message}");
+    }
+}

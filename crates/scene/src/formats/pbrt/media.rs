@@ -40,7 +40,8 @@ pub(super) fn make_named(r: &mut Reader, name: String, p: &Params, here: Locatio
         |key: &str| -> Result<Rgb> { Ok(color(p, key, ColorKind::Albedo)?.unwrap_or(Rgb::WHITE) * scale) };
     let (sigma_a, sigma_s) = (coefficient("sigma_a")?, coefficient("sigma_s")?);
     let g = p.float("g", 0.0)?;
-    if !(scale >= 0.0 && scale.is_finite()) || !(g > -1.0 && g < 1.0) || !(sigma_a + sigma_s).is_finite() {
+    let valid = scale >= 0.0 && scale.is_finite() && g > -1.0 && g < 1.0 && (sigma_a + sigma_s).is_finite();
+    if !valid {
         return Err(SceneError::at(
             here,
             format!("medium `{name}`: scale must be finite and >= 0, g in (-1, 1), the coefficients finite"),

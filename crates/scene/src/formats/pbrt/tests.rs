@@ -148,14 +148,15 @@ Shape "curve" "point3 P" [ 0 0 0 1 1 1 2 2 2 3 3 3 ]
 Shape "curve" "point3 P" [ 0 0 0 1 1 1 2 2 2 3 3 3 ]
 Shape "sphere" "float glow" 1
 Shape "sphere" "float glow" 2
-MakeNamedMedium "fog" "string type" "homogeneous"
+MakeNamedMedium "smoke" "string type" "uniformgrid"
+MakeNamedMedium "cloud" "string type" "uniformgrid"
 "#;
     let dir = folder(&[("a.pbrt", scene)]);
     let desc = read(&dir.path().join("a.pbrt")).unwrap();
     let count = |needle: &str| desc.warnings.iter().filter(|w| w.contains(needle)).count();
     assert_eq!(count("`curve`"), 1, "{:?}", desc.warnings);
     assert_eq!(count("`glow`"), 1, "{:?}", desc.warnings);
-    assert_eq!(count("media"), 1, "{:?}", desc.warnings);
+    assert_eq!(count("uniformgrid"), 1, "{:?}", desc.warnings);
     assert_eq!(desc.shapes.len(), 2);
 }
 
@@ -336,5 +337,61 @@ Shape "sphere"
     assert_eq!(
         (gold.thickness, gold.max_depth, gold.samples),
         (d.thickness, d.max_depth, d.samples)
+    );
+}
+
+/// `MakeNamedMedium` (homogeneous, pbrt-v4's defaults of 1), `MediumInterface` with one or
+/// two names, the camera's medium (the outside one when `Camera` comes), the `interface`
+/// material and `volpath`; an unknown medium names its line.
+#[test]
+fn media_follow_the_graphics_state() {
+    use penumbra_render::integrators::IntegratorKind;
+    use penumbra_render::media::{Homogeneous, Medium, MediumInterface};
+    use penumbra_render::phase::{HenyeyGreenstein, Phase};
+    let scene = r#"Integrator "volpath"
+MakeNamedMedium "gas" "string type" "homogeneous" "rgb sigma_a" [0.1 0.2 0.3] "float scale" 2 "float g" -0.5
+MediumInterface "" "gas"
+LookAt 0 0 5  0 0 0  0 1 0
+Camera "perspective"
+WorldBegin
+AttributeBegin
+  MediumInterface "gas" ""
+  Material "interface"
+  Shape "sphere"
+AttributeEnd
+Shape "sphere"
+"#;
+    let dir = folder(&[("a.pbrt", scene)]);
+    let desc = read(&dir.path().join("a.pbrt")).unwrap();
+    assert_eq!(desc.render.integrator, IntegratorKind::Volpath);
+    assert_eq!(desc.camera_medium, Some(0));
+    assert_eq!(
+        desc.media[0].medium,
+        Medium::Homogeneous(Homogeneous {
+            sigma_a: penumbra_core::Rgb::new(0.2, 0.4, 0.6),
+            sigma_s: penumbra_core::Rgb::splat(2.0),
+            phase: Phase::HenyeyGreenstein(HenyeyGreenstein::new(-0.5)),
+        })
+    );
+    assert_eq!(
+        desc.shapes[0].media,
+        Some(MediumInterface {
+            inside: Some(0),
+            outside: None
+        })
+    );
+    assert!(desc.materials[desc.shapes[0].material.unwrap()].material.is_null());
+    // The interface in force outside the attribute block: inside "" and outside "gas".
+    assert_eq!(
+        desc.shapes[1].media,
+        Some(MediumInterface {
+            inside: None,
+            outside: Some(0)
+        })
+    );
+    let got = error_at(&[("a.pbrt", "WorldBegin\nMediumInterface \"fog\"\n")], read);
+    assert!(
+        got.starts_with("a.pbrt:2:") && got.contains("no medium is named `fog`"),
+        "{got}"
     );
 }
