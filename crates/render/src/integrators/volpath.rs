@@ -65,9 +65,13 @@ struct PathSampling<'a> {
     rng: Pcg32,
     /// The RGB channel whose majorant draws the free flights.
     hero: usize,
-    /// The majorant segments of the medium being tracked.
-    segments: Vec<Segment>,
+    /// The majorant segments of the medium being tracked (a buffer the batch's paths share).
+    segments: &'a mut Vec<Segment>,
 }
+
+/// The most boundaries a ray may cross in a row before it is given up (a ray caught
+/// crossing one surface over and over, as rounding could make it, must not hang a render).
+const MAX_CROSSINGS: u32 = 1024;
 
 /// What a medium did to a ray before its surface.
 enum Flight {
@@ -100,7 +104,7 @@ impl Integrator for VolPath {
         if scene.media.is_empty() {
             return self.path.li(scene, ray, sampler, counts, splats);
         }
-        self.trace(scene, ray, sampler, counts)
+        self.trace(scene, ray, sampler, counts, &mut Vec::new())
     }
 
     fn li_batch(
@@ -115,8 +119,9 @@ impl Integrator for VolPath {
         if scene.media.is_empty() {
             return self.path.li_batch(scene, rays, samplers, out, counts, splats);
         }
+        let mut segments = Vec::new();
         for ((ray, sampler), out) in rays.iter().zip(samplers).zip(out) {
-            *out = self.trace(scene, ray, sampler, counts);
+            *out = self.trace(scene, ray, sampler, counts, &mut segments);
         }
     }
 }
@@ -132,7 +137,14 @@ impl VolPath {
     }
 
     /// The radiance arriving along `camera_ray` in a scene with media.
-    fn trace(&self, scene: &Scene, camera_ray: &Ray, sampler: &mut PixelSampler, counts: &mut RayCounts) -> Rgb {
+    fn trace(
+        &self,
+        scene: &Scene,
+        camera_ray: &Ray,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+        segments: &mut Vec<Segment>,
+    ) -> Rgb {
         let (selection, sampling) = self.light_strategy();
         let hero = ((sampler.next_1d() * 3.0) as usize).min(2);
         let seed = (u64::from(sampler.next_1d().to_bits()) << 32) | u64::from(sampler.next_1d().to_bits());
@@ -140,7 +152,7 @@ impl VolPath {
             sampler,
             rng: Pcg32::new(seed, 0x0076_6f6c_7061_7468),
             hero,
-            segments: Vec::new(),
+            segments,
         };
         let mut w = Weights {
             beta: Rgb::WHITE,
@@ -154,7 +166,7 @@ impl VolPath {
         // sample could have found what the ray meets), and where it was.
         let (mut specular, mut previous) = (true, ray.origin);
         let mut eta_scale = 1.0f32;
-        let mut depth = 0u32;
+        let (mut depth, mut crossings) = (0u32, 0u32);
         loop {
             let hit = scene.accel.intersect(&ray, f32::INFINITY);
             if let Some(m) = medium {
@@ -172,7 +184,7 @@ impl VolPath {
                         // The phase function is sampled exactly: its weight p/pdf is 1.
                         let (wi, pdf) = phase.sample(wo, s.sampler.next_2d());
                         w.r_l = w.r_u / pdf;
-                        (specular, previous) = (false, p);
+                        (specular, previous, crossings) = (false, p, 0);
                         counts.secondary += 1;
                         ray = Ray::new(p, wi);
                         if !self.roulette(&mut w, eta_scale, depth, s.sampler) {
@@ -205,6 +217,10 @@ impl VolPath {
             let crossing = scene.media_of(it.surface.object).copied();
             if it.material.is_null() {
                 // A boundary between media only: the ray goes on, the depth unchanged.
+                crossings += 1;
+                if crossings > MAX_CROSSINGS {
+                    break;
+                }
                 if let Some(mi) = crossing {
                     medium = mi.towards(it.surface.ng, ray.dir);
                 }
@@ -231,7 +247,7 @@ impl VolPath {
             w.r_l = w.r_u / bs.pdf;
             eta_scale *= bs.eta * bs.eta;
             let origin = sh.origin_towards(wi);
-            (specular, previous) = (bs.delta, origin);
+            (specular, previous, crossings) = (bs.delta, origin, 0);
             counts.secondary += 1;
             ray = Ray::new(origin, wi);
             if let Some(mi) = crossing {
@@ -344,7 +360,7 @@ impl VolPath {
 /// weights β and r_u by σn T_maj over its density and r_l by σ_maj T_maj (pbrt-v4).
 fn fly(medium: &Medium, ray: &Ray, t_max: f32, w: &mut Weights, s: &mut PathSampling) -> Flight {
     let hero = s.hero;
-    let mut walk = Tracker::new(medium, (ray.origin, ray.dir, t_max), hero, &mut s.segments);
+    let mut walk = Tracker::new(medium, (ray.origin, ray.dir, t_max), hero, s.segments);
     loop {
         match walk.step(&mut s.rng) {
             Step::End { t_maj } => {
@@ -424,7 +440,7 @@ fn transmittance(
         r_u: Rgb::WHITE,
     };
     let mut dir = dir;
-    loop {
+    for _ in 0..=MAX_CROSSINGS {
         let reach = if dist.is_finite() {
             let to_target = target - origin;
             dir = to_target.normalize_or(dir);
@@ -469,13 +485,14 @@ fn transmittance(
         }
         origin = beyond(it.surface.p, it.surface.ng, dir);
     }
+    None
 }
 
 /// Ratio tracking of `ray` (unit direction) through `m` over `[0, end)` into `tr`, as
 /// pbrt-v4's `SampleLd`; whether the estimate is still above zero.
 fn ratio_tracking(m: &Medium, ray: &Ray, end: f32, s: &mut PathSampling, tr: &mut Transmittance) -> bool {
     let hero = s.hero;
-    let mut walk = Tracker::new(m, (ray.origin, ray.dir, end), hero, &mut s.segments);
+    let mut walk = Tracker::new(m, (ray.origin, ray.dir, end), hero, s.segments);
     loop {
         match walk.step(&mut s.rng) {
             Step::Collision { t, sigma_maj, t_maj } => {
