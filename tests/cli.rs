@@ -660,3 +660,32 @@ fn blends_of_many_glasses_render_with_every_integrator() {
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("deep.xml:6:") && stderr.contains("nests"), "{stderr}");
 }
+
+/// The media test scenes render with `volpath` (the integrator they name) without a
+/// warning; another integrator renders their media as vacuum and says so.
+#[test]
+fn media_scenes_render_and_other_integrators_say_they_ignore_media() {
+    let dir = tempfile::tempdir().unwrap();
+    for (integrator, warned) in [(None, false), (Some("path"), true)] {
+        let scene = repo().join("scenes/media/fog-cbox.xml");
+        let png = dir.path().join("fog.png");
+        let mut args = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            png.to_str().unwrap(),
+            "--spp",
+            "2",
+            "-D",
+            "res=16",
+        ];
+        if let Some(name) = integrator {
+            args.extend(["--integrator", name]);
+        }
+        let out = penumbra(dir.path(), &args);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let stderr = text(&out.stderr);
+        assert_eq!(stderr.contains("as vacuum"), warned, "{integrator:?}: {stderr}");
+        assert!(png.exists());
+    }
+}

@@ -64,6 +64,9 @@ pub struct Capabilities {
     pub carries_frames: bool,
     /// Can keep an image per sampling strategy (`--debug-strategies`).
     pub strategy_images: bool,
+    /// Renders participating media (the others render a scene as if its media were
+    /// vacuum).
+    pub media: bool,
 }
 
 impl Default for Capabilities {
@@ -76,6 +79,7 @@ impl Default for Capabilities {
             splats: false,
             carries_frames: false,
             strategy_images: false,
+            media: false,
         }
     }
 }

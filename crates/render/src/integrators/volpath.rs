@@ -16,7 +16,7 @@
 use super::nee::Shading;
 use super::{Integrator, IntegratorOptions, PathTracer, RayCounts, Splat};
 use crate::bsdfs::TransportMode;
-use crate::interface::Progress;
+use crate::interface::{Capabilities, Progress};
 use crate::lights::{AreaSampling, LightSelection};
 use crate::media::{attenuation, channel, Medium, MediumInterface, Segment, Step, Tracker};
 use crate::phase::Phase;
@@ -85,6 +85,13 @@ enum Flight {
 }
 
 impl Integrator for VolPath {
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            media: true,
+            ..Capabilities::default()
+        }
+    }
+
     fn batch_size(&self) -> usize {
         self.path.batch_size()
     }
@@ -364,13 +371,12 @@ fn fly(medium: &Medium, ray: &Ray, t_max: f32, w: &mut Weights, s: &mut PathSamp
     loop {
         match walk.step(&mut s.rng) {
             Step::End { t_maj } => {
-                let p = channel(t_maj, hero);
-                if p == 0.0 {
+                let Some(ratio) = over_hero(t_maj, hero) else {
                     return Flight::Absorbed;
+                };
+                for x in [&mut w.beta, &mut w.r_u, &mut w.r_l] {
+                    *x *= ratio;
                 }
-                w.beta *= t_maj / p;
-                w.r_u *= t_maj / p;
-                w.r_l *= t_maj / p;
                 return Flight::Through;
             }
             Step::Collision { t, sigma_maj, t_maj } => {
@@ -466,13 +472,10 @@ fn transmittance(
                 // null collisions): passing, with the hero channel's probability T, it
                 // weighs T/T_hero into the estimate and the two r's.
                 let t = attenuation(m.at(origin).sigma_t(), end);
-                let p = channel(t, hero);
-                if p == 0.0 {
-                    return None;
-                }
+                let ratio = over_hero(t, hero)?;
                 tr.t *= t;
-                tr.r_l *= t / p;
-                tr.r_u *= t / p;
+                tr.r_l *= ratio;
+                tr.r_u *= ratio;
             } else if !ratio_tracking(m, &ray, end, s, &mut tr) {
                 return None;
             }
@@ -514,17 +517,23 @@ fn ratio_tracking(m: &Medium, ray: &Ray, end: f32, s: &mut PathSampling, tr: &mu
                 }
             }
             Step::End { t_maj } => {
-                let p = channel(t_maj, hero);
-                if p == 0.0 {
+                let Some(ratio) = over_hero(t_maj, hero) else {
                     return false;
+                };
+                for x in [&mut tr.t, &mut tr.r_l, &mut tr.r_u] {
+                    *x *= ratio;
                 }
-                tr.t *= t_maj / p;
-                tr.r_l *= t_maj / p;
-                tr.r_u *= t_maj / p;
                 return true;
             }
         }
     }
+}
+
+/// A transmittance `t` over its hero channel's (the probability with which the hero
+/// channel's tracking passed); `None` where that is zero.
+fn over_hero(t: Rgb, hero: usize) -> Option<Rgb> {
+    let p = channel(t, hero);
+    (p > 0.0).then(|| t / p)
 }
 
 /// The surface point `p` (geometric normal `ng`) pushed off to the side `dir` leaves by.

@@ -24,7 +24,7 @@
 //! their own. Every type takes
 //! `normal_map`, an image file of tangent-space normals.
 
-use super::choice;
+use super::{choice, unique_name};
 use crate::desc::MaterialDesc;
 use crate::params::{Result, Table, Value};
 use penumbra_core::Rgb;
@@ -47,13 +47,7 @@ const TYPES: [&str; 8] = [
 pub fn read_all(tables: &[Table]) -> Result<Vec<MaterialDesc>> {
     let mut out: Vec<MaterialDesc> = Vec::new();
     for t in tables {
-        let name_value = t.require("name")?;
-        let name = name_value.str()?.to_string();
-        if out.iter().any(|m| m.name == name) {
-            return Err(name_value
-                .error(format!("material `{name}` is defined twice"))
-                .label("second definition"));
-        }
+        let name = unique_name(t, "material", out.iter().map(|m| &m.name))?;
         let kind = match t.get("type") {
             Some(v) => choice(&v, "material type", &TYPES, |s| {
                 TYPES.contains(&s).then(|| s.to_string())

@@ -9,7 +9,7 @@
 //! - `phase`: `isotropic` (the default) or `hg` (Henyey-Greenstein) with `g`, the mean
 //!   cosine, in (-1, 1) (default 0).
 
-use super::choice;
+use super::{choice, unique_name};
 use crate::desc::MediumDesc;
 use crate::params::{Result, Table};
 use penumbra_core::Rgb;
@@ -19,13 +19,7 @@ use penumbra_render::phase::{HenyeyGreenstein, Phase};
 pub fn read_all(tables: &[Table]) -> Result<Vec<MediumDesc>> {
     let mut out: Vec<MediumDesc> = Vec::new();
     for t in tables {
-        let name_value = t.require("name")?;
-        let name = name_value.str()?.to_string();
-        if out.iter().any(|m| m.name == name) {
-            return Err(name_value
-                .error(format!("medium `{name}` is defined twice"))
-                .label("second definition"));
-        }
+        let name = unique_name(t, "medium", out.iter().map(|m| &m.name))?;
         if let Some(v) = t.get("type") {
             choice(&v, "medium type", &Medium::NAMES, |s| {
                 Medium::NAMES.contains(&s).then_some(())

@@ -73,6 +73,19 @@ pub fn read(file: &Arc<SourceFile>) -> Result<SceneDesc> {
     Ok(desc)
 }
 
+/// The `name` of table `t`, which none of `taken` (the names of its kind defined before,
+/// a `what`) may already be.
+pub(crate) fn unique_name<'a>(t: &Table, what: &str, mut taken: impl Iterator<Item = &'a String>) -> Result<String> {
+    let value = t.require("name")?;
+    let name = value.str()?.to_string();
+    if taken.any(|n| *n == name) {
+        return Err(value
+            .error(format!("{what} `{name}` is defined twice"))
+            .label("second definition"));
+    }
+    Ok(name)
+}
+
 /// A value that must be one of `names`, with the list in the error.
 pub(crate) fn choice<T>(v: &Value, what: &str, names: &[&str], parse: impl Fn(&str) -> Option<T>) -> Result<T> {
     let s = v.str()?;
