@@ -197,3 +197,49 @@ fn a_white_medium_inside_an_emitting_sphere_is_its_radiance() {
         }
     }
 }
+
+/// A grid medium of albedo 1 (density rising along x from 0 to 1, σt 1.5/3/0.5 where it
+/// is 1) inside an emitting sphere is the sphere's radiance: delta tracking against the
+/// majorant grid, null collisions and ratio-tracked shadow rays lose nothing and add
+/// nothing. Within 3 standard errors over 400,000 paths.
+#[test]
+fn a_white_grid_medium_inside_an_emitting_sphere_is_its_radiance() {
+    use glam::UVec3;
+    use penumbra::math::{Rgb, Transform};
+    use penumbra::renderer::media::{DensityGrid, GridMedium, Medium};
+    use penumbra::renderer::phase::{HenyeyGreenstein, Phase};
+    let mut scene = scene_from(
+        "[camera]\nposition = [0, 0, 0]\ntarget = [0, 0, -1]\nmedium = \"cloud\"\n\n\
+         [[medium]]\nname = \"cloud\"\n\n\
+         [[material]]\nname = \"black\"\ntype = \"diffuse\"\nreflectance = 0\n\n\
+         [[shape]]\ntype = \"sphere\"\nradius = 2\nmaterial = \"black\"\nemission = 1\ntwo_sided = true\ninterior = \"cloud\"\n",
+    );
+    let res = UVec3::new(16, 4, 4);
+    let values = (0..res.x * res.y * res.z)
+        .map(|i| ((i % res.x) as f32 + 0.5) / res.x as f32)
+        .collect();
+    let grid = std::sync::Arc::new(DensityGrid::new(res, values).unwrap());
+    // The grid's unit cube stretched over [-2, 2]^3, the whole sphere.
+    let to_world = Transform::scale(Vec3::splat(4.0))
+        .unwrap()
+        .then(Transform::translate(Vec3::splat(-2.0)));
+    let phase = Phase::HenyeyGreenstein(HenyeyGreenstein::new(0.3));
+    scene.media[0] = Medium::Grid(GridMedium::new(
+        grid,
+        Rgb::new(1.5, 3.0, 0.5),
+        Rgb::WHITE,
+        phase,
+        to_world,
+    ));
+    let result = estimate(&scene, IntegratorKind::Volpath, MAX_DEPTH_LIMIT, 400_000, |i| {
+        let (a, b) = (i as f32 * 0.618_034, i as f32 * 0.414_214);
+        Ray::new(
+            Vec3::new(0.5 * a.cos(), 0.5 * b.sin(), 0.3),
+            Vec3::new(a.sin(), b.cos(), (a + b).sin()),
+        )
+    });
+    for (c, (mean, se)) in result.into_iter().enumerate() {
+        println!("grid medium, channel {c}: {mean:.5} +- {se:.5}");
+        assert_within_3se(&format!("grid medium, channel {c}"), mean, se, 1.0, 1e-4);
+    }
+}

@@ -12,9 +12,11 @@
 //! Adding a medium: a new file whose type answers [`MediumModel`], and one line in the
 //! `medium_kinds!` registry below.
 
+mod grid;
 mod homogeneous;
 mod tracker;
 
+pub use grid::{DensityGrid, GridMedium};
 pub use homogeneous::Homogeneous;
 pub use tracker::{attenuation, Step, Tracker};
 
@@ -80,6 +82,7 @@ macro_rules! medium_kinds {
 
 medium_kinds! {
     Homogeneous(Homogeneous) = "homogeneous",
+    Grid(GridMedium) = "grid",
 }
 
 impl Medium {

@@ -52,6 +52,8 @@ impl<'a> Tracker<'a> {
     /// draws (one per collision, one per segment passed without one).
     pub fn step(&mut self, rng: &mut Pcg32) -> Step {
         while let Some(seg) = self.segments.get(self.index) {
+            // Between segments the medium is empty (nothing to attenuate).
+            self.t = self.t.max(seg.t0);
             let sigma = channel(seg.sigma_maj, self.channel);
             if sigma > 0.0 {
                 let dt = -(1.0 - rng.next_f32()).ln() / sigma;

@@ -16,6 +16,9 @@ use penumbra_core::Rgb;
 use penumbra_render::media::{Homogeneous, Medium};
 use penumbra_render::phase::{HenyeyGreenstein, Phase};
 
+/// The kinds the native format reads so far.
+const TYPES: [&str; 1] = ["homogeneous"];
+
 pub fn read_all(tables: &[Table]) -> Result<Vec<MediumDesc>> {
     let mut out: Vec<MediumDesc> = Vec::new();
     for t in tables {
