@@ -294,19 +294,14 @@ mod tests {
                 let mut walk = Tracker::new(&m, (r.0, r.1, t_max), 0, &mut buffer);
                 let mut alive = true;
                 let mut weight = 1.0f64;
-                loop {
-                    match walk.step(&mut rng) {
-                        Step::Collision { t, sigma_maj, .. } => {
-                            let (st, sm) = (
-                                crate::media::channel(m.at(r.0 + r.1 * t).sigma_t(), 0),
-                                crate::media::channel(sigma_maj, 0),
-                            );
-                            weight *= (1.0 - st / sm) as f64;
-                            if alive && rng.next_f32() * sm < st {
-                                alive = false;
-                            }
-                        }
-                        Step::End { .. } => break,
+                while let Step::Collision { t, sigma_maj, .. } = walk.step(&mut rng) {
+                    let (st, sm) = (
+                        crate::media::channel(m.at(r.0 + r.1 * t).sigma_t(), 0),
+                        crate::media::channel(sigma_maj, 0),
+                    );
+                    weight *= (1.0 - st / sm) as f64;
+                    if alive && rng.next_f32() * sm < st {
+                        alive = false;
                     }
                 }
                 passed += alive as u32;

@@ -24,9 +24,7 @@ pub fn read_all(tables: &[Table]) -> Result<Vec<MediumDesc>> {
     for t in tables {
         let name = unique_name(t, "medium", out.iter().map(|m| &m.name))?;
         if let Some(v) = t.get("type") {
-            choice(&v, "medium type", &Medium::NAMES, |s| {
-                Medium::NAMES.contains(&s).then_some(())
-            })?;
+            choice(&v, "medium type", &TYPES, |s| TYPES.contains(&s).then_some(()))?;
         }
         let medium = Medium::Homogeneous(read_homogeneous(t)?);
         t.finish()?;
