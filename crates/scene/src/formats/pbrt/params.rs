@@ -91,6 +91,17 @@ impl Params {
         }
     }
 
+    /// A list of numbers (`float` or `integer`).
+    pub fn floats(&self, name: &str) -> Result<Option<Vec<f32>>> {
+        let Some(p) = self.find(name) else { return Ok(None) };
+        Ok(Some(
+            self.nums(p, &["float", "integer"])?
+                .into_iter()
+                .map(|x| x as f32)
+                .collect(),
+        ))
+    }
+
     pub fn ints(&self, name: &str) -> Result<Option<Vec<i64>>> {
         let Some(p) = self.find(name) else { return Ok(None) };
         let v = self.nums(p, &["integer"])?;
