@@ -37,6 +37,9 @@ pub struct Scene {
     pub object_media: Vec<Option<MediumInterface>>,
     /// The medium the camera sits in.
     pub camera_medium: Option<u32>,
+    /// Whether each material is [`Material::null`], a boundary between media only; made
+    /// by [`Scene::prepared`] (the per-hit test reads it instead of comparing materials).
+    pub null_materials: Vec<bool>,
 }
 
 /// A ray's closest surface hit, with what shading needs.
@@ -48,8 +51,10 @@ pub struct Interaction<'a> {
 }
 
 impl Scene {
-    /// The scene with its derived table ([`Scene::sphere`]) made from its fields.
+    /// The scene with its derived tables ([`Scene::sphere`], [`Scene::null_materials`])
+    /// made from its fields.
     pub fn prepared(mut self) -> Self {
+        self.null_materials = self.materials.iter().map(Material::is_null).collect();
         let b = self.geometry.finite_bounds();
         self.sphere = if b.is_finite() && !b.is_empty() {
             (b.centroid(), (0.5 * b.extent().length()).max(1e-3))
@@ -78,6 +83,11 @@ impl Scene {
     /// The media on the two sides of scene object `object`, if it separates media.
     pub fn media_of(&self, object: u32) -> Option<&MediumInterface> {
         self.object_media.get(object as usize)?.as_ref()
+    }
+
+    /// Whether scene object `object` is only a boundary between media ([`Material::null`]).
+    pub fn is_boundary(&self, object: u32) -> bool {
+        self.null_materials[self.object_materials[object as usize] as usize]
     }
 
     /// The material of scene object `object`.

@@ -202,6 +202,7 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         media: desc.media.iter().map(|m| m.medium.clone()).collect(),
         object_media,
         camera_medium: desc.camera_medium,
+        null_materials: Vec::new(),
     }
     .prepared())
 }

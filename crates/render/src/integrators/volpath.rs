@@ -222,7 +222,7 @@ impl VolPath {
                 }
             }
             let crossing = scene.media_of(it.surface.object).copied();
-            if it.material.is_null() {
+            if scene.is_boundary(it.surface.object) {
                 // A boundary between media only: the ray goes on, the depth unchanged.
                 crossings += 1;
                 if crossings > MAX_CROSSINGS {
@@ -461,7 +461,7 @@ fn transmittance(
         let ray = Ray::new(origin, dir);
         let hit = scene.accel.intersect(&ray, reach);
         let it = hit.map(|h| scene.interaction(&ray, &h));
-        if it.as_ref().is_some_and(|it| !it.material.is_null()) {
+        if it.as_ref().is_some_and(|it| !scene.is_boundary(it.surface.object)) {
             return None;
         }
         if let Some(m) = medium {
