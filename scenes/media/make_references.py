@@ -1,6 +1,6 @@
 """Reference images of the media test scenes, rendered by Mitsuba 3 (llvm_ad_rgb, volpath).
 
-usage: ~/.cache/penumbra-anchors/venv/bin/python scenes/media/make_references.py [--res 64] [--spp 16384]
+usage: ~/.cache/penumbra-anchors/venv/bin/python scenes/media/make_references.py [--res 64] [--spp 16384] [--scenes a,b]
 (after `../shared/anchors/run.sh setup`; DRJIT_LIBLLVM_PATH as run.sh sets it)
 
 For each scene: the reference (--spp samples in chunks of 1024 with distinct seeds) goes to
@@ -15,7 +15,7 @@ import mitsuba as mi
 mi.set_variant("llvm_ad_rgb")
 HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "..", "..", "tests", "data", "media")
-SCENES = ["fog-cbox", "media-spheres"]
+SCENES = ["fog-cbox", "media-spheres", "cloud-cbox"]
 
 
 def render(name, res, spp, seed):
@@ -31,9 +31,10 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--res", type=int, default=64)
     ap.add_argument("--spp", type=int, default=16384)
+    ap.add_argument("--scenes", default=",".join(SCENES), help="comma-separated names (all by default)")
     a = ap.parse_args()
     os.makedirs(OUT, exist_ok=True)
-    for name in SCENES:
+    for name in a.scenes.split(","):
         chunks = max(1, a.spp // 1024)
         ref = sum(render(name, a.res, min(a.spp, 1024), 1000 + i) for i in range(chunks)) / chunks
         mi.Bitmap(ref.astype(np.float32)).write(os.path.join(OUT, f"{name}.exr"))

@@ -32,6 +32,22 @@ impl Homogeneous {
             phase,
         }
     }
+
+    /// σt = σa + σs.
+    pub fn sigma_t(&self) -> Rgb {
+        self.sigma_a + self.sigma_s
+    }
+
+    /// σs/σt in each channel (0 where σt is).
+    pub fn albedo(&self) -> Rgb {
+        let t = self.sigma_t();
+        let ratio = |s: f32, t: f32| if t > 0.0 { s / t } else { 0.0 };
+        Rgb::new(
+            ratio(self.sigma_s.r, t.r),
+            ratio(self.sigma_s.g, t.g),
+            ratio(self.sigma_s.b, t.b),
+        )
+    }
 }
 
 impl MediumModel for Homogeneous {
@@ -48,7 +64,7 @@ impl MediumModel for Homogeneous {
         out.push(Segment {
             t0: 0.0,
             t1: t_max,
-            sigma_maj: self.sigma_a + self.sigma_s,
+            sigma_maj: self.sigma_t(),
         });
     }
 

@@ -15,6 +15,7 @@ pub mod pbrt;
 pub mod ply;
 #[cfg(test)]
 mod test_files;
+pub mod vol;
 
 use crate::{SceneDesc, SceneError, SourceFile};
 use penumbra_geometry::TriangleMesh;

@@ -17,8 +17,16 @@ pub fn folder(files: &[(&str, &str)]) -> tempfile::TempDir {
 
 /// The error of reading the first of `files` with `read`, as `file:line:column | message`.
 pub fn error_at<T: std::fmt::Debug>(files: &[(&str, &str)], read: impl Fn(&Path) -> Result<T, SceneError>) -> String {
-    let dir = folder(files);
-    let err = read(&dir.path().join(files[0].0)).expect_err("an error");
+    error_at_in(&folder(files), files[0].0, read)
+}
+
+/// The error of reading `name` in `dir` with `read`, as `file:line:column | message`.
+pub fn error_at_in<T: std::fmt::Debug>(
+    dir: &tempfile::TempDir,
+    name: &str,
+    read: impl Fn(&Path) -> Result<T, SceneError>,
+) -> String {
+    let err = read(&dir.path().join(name)).expect_err("an error");
     let location = err.location().map(|l| {
         let (line, col) = l.file.line_col(l.span.start);
         format!(

@@ -1,34 +1,49 @@
-//! Mitsuba 3's participating media: `<medium type="homogeneous">` (`albedo`, `sigma_t`,
-//! `scale`, a nested `<phase type="isotropic|hg">`), defined at the top level with an `id`
-//! or nested where it is used: in a shape as `interior`/`exterior` (or a `<ref name=...>`
-//! to one), in the sensor (the medium the camera is in). `albedo` and `sigma_t` are
-//! colours, numbers or `<volume type="constvolume">`. Heterogeneous media are not read
-//! yet: a warning, and the shape bounds nothing.
+//! Mitsuba 3's participating media: `<medium type="homogeneous|heterogeneous">` (`albedo`,
+//! `sigma_t`, `scale`, a nested `<phase type="isotropic|hg">`), defined at the top level
+//! with an `id` or nested where it is used: in a shape as `interior`/`exterior` (or a
+//! `<ref name=...>` to one), in the sensor (the medium the camera is in). `albedo` and
+//! `sigma_t` are colours, numbers or `<volume type="constvolume">`; a heterogeneous
+//! medium's `sigma_t` is also a `<volume type="gridvolume">`: a one-channel `.vol` file
+//! over the unit cube placed by its `to_world` (or over the file's own box with
+//! `use_grid_bbox`), looked up trilinearly. Grids of albedo are not read (an error).
 
 use super::props::Props;
 use super::{warn_unused, At, Reader, Result};
 use crate::desc::MediumDesc;
-use penumbra_core::Rgb;
-use penumbra_render::media::{Homogeneous, Medium, MediumInterface};
+use crate::formats::vol;
+use penumbra_core::{Rgb, Transform};
+use penumbra_render::media::{DensityGrid, GridMedium, Homogeneous, Medium, MediumInterface};
 use penumbra_render::phase::{HenyeyGreenstein, Phase};
+use std::sync::Arc;
 
 /// The medium `at` describes, added to the scene (under its `id`, when it has one); its
 /// index, or `None` for a kind not read (warned).
 pub fn medium(r: &mut Reader, at: At) -> Result<Option<u32>> {
     let p = r.props(at);
     let kind = r.require(at, "type")?;
-    if kind != "homogeneous" {
-        let text = format!(
-            "{}: medium `{kind}` is not supported yet (homogeneous is): the scene renders without it",
-            at.place()
-        );
-        r.warn_once(&format!("medium {kind}"), text);
-        return Ok(None);
+    if kind != "homogeneous" && kind != "heterogeneous" {
+        return Err(r.attr_error(
+            at,
+            "type",
+            format!("medium `{kind}` is not supported (homogeneous and heterogeneous are)"),
+        ));
     }
-    let albedo = coefficient(r, &p, "albedo", 0.75)?;
+    let albedo = match coefficient(r, &p, "albedo", 0.75)? {
+        Volume::Constant(c) => c,
+        Volume::Grid(..) => {
+            return Err(p
+                .get("albedo")
+                .map_or(at, |v| v)
+                .error("a grid of albedo is not supported (a constant albedo is)"))
+        }
+    };
     let sigma_t = coefficient(r, &p, "sigma_t", 1.0)?;
     let scale = p.float_or(r, "scale", 1.0)?;
-    if albedo.max_component() > 1.0 || !(scale >= 0.0 && scale.is_finite()) || !sigma_t.is_finite() {
+    let finite = match &sigma_t {
+        Volume::Constant(c) => c.is_finite(),
+        Volume::Grid(..) => true,
+    };
+    if albedo.max_component() > 1.0 || !(scale >= 0.0 && scale.is_finite()) || !finite {
         return Err(at.error(format!(
             "medium: albedo must lie in [0, 1], sigma_t be finite and scale finite and >= 0 \
              (albedo {albedo:?}, sigma_t {sigma_t:?}, scale {scale})"
@@ -38,13 +53,19 @@ pub fn medium(r: &mut Reader, at: At) -> Result<Option<u32>> {
         Some(&ph) => phase(r, ph)?,
         None => Phase::Isotropic,
     };
-    p.get("sample_emitters");
-    warn_unused(r, &p, "medium homogeneous");
+    for ignored in ["sample_emitters", "has_spectral_extinction"] {
+        p.get(ignored);
+    }
+    warn_unused(r, &p, &format!("medium {kind}"));
+    let medium = match sigma_t {
+        Volume::Constant(c) => Medium::Homogeneous(Homogeneous::from_albedo(albedo, c * scale, phase)),
+        Volume::Grid(grid, to_world) => Medium::Grid(GridMedium::new(grid, Rgb::splat(scale), albedo, phase, to_world)),
+    };
     let index = r.desc.media.len() as u32;
     let id = r.attr(at, "id")?;
     r.desc.media.push(MediumDesc {
         name: id.clone().unwrap_or_else(|| format!("medium at {}", at.place())),
-        medium: Medium::Homogeneous(Homogeneous::from_albedo(albedo, sigma_t * scale, phase)),
+        medium,
         location: Some(at.location()),
     });
     if let Some(id) = id {
@@ -53,24 +74,66 @@ pub fn medium(r: &mut Reader, at: At) -> Result<Option<u32>> {
     Ok(Some(index))
 }
 
-/// A medium's colour parameter: a colour, a number or a `<volume type="constvolume">`.
-fn coefficient(r: &mut Reader, p: &Props, name: &str, default: f32) -> Result<Rgb> {
-    match p.get(name) {
-        Some(v) if v.tag() == "volume" => {
-            let vp = r.props(v);
-            match r.require(v, "type")?.as_str() {
-                "constvolume" => {
-                    let c = vp.color_or(r, "value", 1.0)?;
-                    warn_unused(r, &vp, "volume constvolume");
-                    Ok(c)
-                }
-                other => Err(v.error(format!(
-                    "volume `{other}` is not supported yet for `{name}` (constvolume is)"
-                ))),
-            }
+/// A medium parameter's value: constant, or a grid over the unit cube placed in the world.
+#[derive(Debug)]
+enum Volume {
+    Constant(Rgb),
+    Grid(Arc<DensityGrid>, Transform),
+}
+
+/// A medium's parameter: a colour, a number, a `<volume type="constvolume">` or a
+/// `<volume type="gridvolume">`.
+fn coefficient(r: &mut Reader, p: &Props, name: &str, default: f32) -> Result<Volume> {
+    let Some(v) = p.get(name).filter(|v| v.tag() == "volume") else {
+        return p.color_or(r, name, default).map(Volume::Constant);
+    };
+    let vp = r.props(v);
+    let volume = match r.require(v, "type")?.as_str() {
+        "constvolume" => Volume::Constant(vp.color_or(r, "value", 1.0)?),
+        "gridvolume" => grid_volume(r, v, &vp)?,
+        other => {
+            return Err(r.attr_error(
+                v,
+                "type",
+                format!("volume `{other}` is not supported (constvolume and gridvolume are)"),
+            ))
         }
-        _ => p.color_or(r, name, default),
+    };
+    warn_unused(r, &vp, "volume");
+    Ok(volume)
+}
+
+/// A `gridvolume`: its `.vol` file (one channel) and where its unit cube lies.
+fn grid_volume(r: &mut Reader, v: At, vp: &Props) -> Result<Volume> {
+    let (file, file_at) = vp
+        .string(r, "filename")?
+        .ok_or_else(|| v.error("a gridvolume needs a `filename`"))?;
+    let path = r.resolve(v, &file);
+    let fail = |e: String| file_at.error(e);
+    let vol = vol::read(&path).map_err(fail)?;
+    if vol.channels != 1 {
+        return Err(fail(format!(
+            "{}: {} channels; a density grid has one",
+            path.display(),
+            vol.channels
+        )));
     }
+    let grid = DensityGrid::new(vol.res, vol.values).map_err(|e| fail(format!("{}: {e}", path.display())))?;
+    if let Some((filter, at)) = vp.string(r, "filter_type")? {
+        if filter != "trilinear" {
+            return Err(at.error(format!("filter_type `{filter}` is not supported (trilinear is)")));
+        }
+    }
+    let mut to_world = vp.transform(r, "to_world")?;
+    if vp.bool_or(r, "use_grid_bbox", false)? {
+        let [lo, hi] = vol.bbox;
+        let scale = Transform::scale(hi - lo).ok_or_else(|| fail(format!("{}: its box is empty", path.display())))?;
+        to_world = scale.then(Transform::translate(lo)).then(to_world);
+    }
+    for ignored in ["raw", "accel", "wrap_mode"] {
+        vp.get(ignored);
+    }
+    Ok(Volume::Grid(Arc::new(grid), to_world))
 }
 
 fn phase(r: &mut Reader, at: At) -> Result<Phase> {

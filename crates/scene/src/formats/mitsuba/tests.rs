@@ -3,7 +3,7 @@
 
 use super::read;
 use crate::desc::ShapeKind;
-use crate::formats::test_files::{error_at, folder};
+use crate::formats::test_files::{error_at, error_at_in, folder};
 use glam::Vec3;
 use penumbra_render::materials::DiffuseMaterial;
 use penumbra_render::{Material, Texture};
@@ -146,8 +146,6 @@ fn unsupported_kinds_warn_once_each() {
     <shape type="serialized"/>
     <shape type="cube"><float name="glow" value="1"/></shape>
     <shape type="cube"><float name="glow" value="2"/></shape>
-    <medium type="heterogeneous"/>
-    <medium type="heterogeneous"/>
     <integrator type="ptracer"/>
 </scene>"#;
     let dir = folder(&[("a.xml", scene)]);
@@ -155,7 +153,6 @@ fn unsupported_kinds_warn_once_each() {
     let count = |needle: &str| desc.warnings.iter().filter(|w| w.contains(needle)).count();
     assert_eq!(count("serialized"), 1, "{:?}", desc.warnings);
     assert_eq!(count("`glow`"), 1, "{:?}", desc.warnings);
-    assert_eq!(count("heterogeneous"), 1, "{:?}", desc.warnings);
     assert_eq!(count("ptracer"), 1, "{:?}", desc.warnings);
     assert!(
         desc.warnings.iter().all(|w| w.contains("a.xml:")),
@@ -238,5 +235,93 @@ fn media_are_read_where_mitsuba_puts_them() {
     ] {
         let got = error_at(&[("a.xml", text)], |p| read(p, &[]));
         assert!(got.starts_with(at) && got.contains(needle), "expected {at} ... {needle}, got {got}");
+    }
+}
+
+/// A heterogeneous medium over a `.vol` grid: the grid, its scale and its placement by
+/// `to_world` (and by the file's box with `use_grid_bbox`); bad grids name their place.
+#[test]
+fn grid_media_read_vol_files() {
+    use crate::formats::vol::{self, VolGrid};
+    use glam::UVec3;
+    use penumbra_render::media::Medium;
+    let scene = |extra: &str| {
+        format!(
+            r#"<scene version="3.0.0">
+    <medium type="heterogeneous" id="cloud">
+        <volume type="gridvolume" name="sigma_t">
+            <string name="filename" value="g.vol"/>
+            <transform name="to_world"><scale value="2"/></transform>{extra}
+        </volume>
+        <float name="albedo" value="0.8"/>
+        <float name="scale" value="10"/>
+    </medium>
+    <shape type="cube"><bsdf type="null"/><ref name="interior" id="cloud"/></shape>
+</scene>"#
+        )
+    };
+    let values: Vec<f32> = (0..8).map(|i| i as f32).collect();
+    let grid = VolGrid {
+        res: UVec3::new(2, 2, 2),
+        channels: 1,
+        bbox: [Vec3::splat(-1.0), Vec3::splat(1.0)],
+        values,
+    };
+    let dir = folder(&[
+        ("a.xml", &scene("")),
+        ("b.xml", &scene("\n<boolean name=\"use_grid_bbox\" value=\"true\"/>")),
+    ]);
+    vol::write(&dir.path().join("g.vol"), &grid).unwrap();
+    let sigma_t_at = |file: &str, p: Vec3| {
+        let desc = read(&dir.path().join(file), &[]).unwrap();
+        assert!(desc.warnings.is_empty(), "{:?}", desc.warnings);
+        let Medium::Grid(m) = &desc.media[0].medium else {
+            panic!("{:?}", desc.media[0].medium)
+        };
+        assert_eq!(m.albedo, penumbra_core::Rgb::splat(0.8));
+        let point = desc.media[0].medium.at(p);
+        point.sigma_a.r + point.sigma_s.r
+    };
+    // The cell centre of value 7 (x, y and z all high) is (0.75, 0.75, 0.75) of the cube.
+    assert!((sigma_t_at("a.xml", Vec3::splat(1.5)) - 70.0).abs() < 1e-3);
+    assert!((sigma_t_at("a.xml", Vec3::new(0.5, 0.5, 0.5)) - 0.0).abs() < 1e-3);
+    // With the file's box [-1, 1]^3, scaled by 2: the same centre is at (1, 1, 1).
+    assert!((sigma_t_at("b.xml", Vec3::splat(1.0)) - 70.0).abs() < 1e-3);
+
+    let mut three = grid.clone();
+    three.channels = 3;
+    three.values = vec![0.5; 24];
+    vol::write(&dir.path().join("rgb.vol"), &three).unwrap();
+    let mut negative = grid.clone();
+    negative.values[3] = -1.0;
+    vol::write(&dir.path().join("neg.vol"), &negative).unwrap();
+    let with_file = |file: &str| scene("").replace("g.vol", file);
+    for (text, at, needle) in [
+        (with_file("none.vol"), "a.xml:4:", "cannot open"),
+        (with_file("rgb.vol"), "a.xml:4:", "3 channels"),
+        (with_file("neg.vol"), "a.xml:4:", "density 3 is -1"),
+        (
+            scene("").replace(
+                "<float name=\"albedo\" value=\"0.8\"/>",
+                "<volume type=\"gridvolume\" name=\"albedo\"><string name=\"filename\" value=\"g.vol\"/></volume>",
+            ),
+            "a.xml:7:",
+            "grid of albedo",
+        ),
+        (
+            scene("<string name=\"filter_type\" value=\"nearest\"/>"),
+            "a.xml:5:",
+            "filter_type `nearest`",
+        ),
+    ] {
+        let dir2 = folder(&[("a.xml", &text)]);
+        for f in ["g.vol", "rgb.vol", "neg.vol"] {
+            std::fs::copy(dir.path().join(f), dir2.path().join(f)).unwrap();
+        }
+        let got = error_at_in(&dir2, "a.xml", |p| read(p, &[]));
+        assert!(
+            got.starts_with(at) && got.contains(needle),
+            "expected {at} ... {needle}, got {got}"
+        );
     }
 }

@@ -640,10 +640,67 @@ fn bad_media_are_errors_naming_the_line() {
             3,
         ),
         (format!("{m}[camera]\nmedium = \"n\"\n"), "no medium named `n`", 4),
+        (format!("{m}type = \"grid\"\n"), "from `file`, or from `resolution`", 1),
+        (
+            format!("{m}type = \"grid\"\nresolution = [2, 1, 1]\ndensity = [1]\n"),
+            "needs 2 densities, found 1",
+            5,
+        ),
+        (
+            format!("{m}type = \"grid\"\nresolution = [2, 1, 1]\ndensity = [1, -1]\n"),
+            "density 1 is -1",
+            5,
+        ),
+        (
+            format!("{m}type = \"grid\"\nresolution = [100000, 1, 1]\ndensity = [1]\n"),
+            "from 1 to 4096",
+            4,
+        ),
+        (format!("{m}type = \"grid\"\nfile = \"none.vol\"\n"), "cannot open", 4),
     ];
     for (text, needle, line) in cases {
         let (message, at) = error_of(&text);
         assert!(message.contains(needle), "{text}: {message}");
         assert_eq!(at, Some(line), "{text}: {message}");
+    }
+}
+
+/// A grid medium's densities inline and from a `.vol` file beside the scene, placed by
+/// its `transform`, with σt and albedo from σa and σs.
+#[test]
+fn grid_media_read_inline_and_from_files() {
+    use crate::formats::vol::{self, VolGrid};
+    use penumbra_render::media::Medium;
+    let text = |source: &str| {
+        format!(
+            "[[medium]]\nname = \"cloud\"\ntype = \"grid\"\n{source}\nsigma_a = 1\nsigma_s = 3\n\
+             transform = {{ translate = [1, 0, 0] }}\n"
+        )
+    };
+    let values: Vec<f32> = (0..8).map(|i| i as f32).collect();
+    let inline = format!("resolution = [2, 2, 2]\ndensity = {values:?}");
+    let dir = tempfile::tempdir().unwrap();
+    vol::write(
+        &dir.path().join("g.vol"),
+        &VolGrid {
+            res: glam::UVec3::splat(2),
+            channels: 1,
+            bbox: [Vec3::ZERO, Vec3::ONE],
+            values,
+        },
+    )
+    .unwrap();
+    for source in [inline.as_str(), "file = \"g.vol\""] {
+        let path = dir.path().join("scene.toml");
+        std::fs::write(&path, text(source)).unwrap();
+        let d = crate::read_scene(&path).unwrap();
+        let Medium::Grid(g) = &d.media[0].medium else {
+            panic!("{:?}", d.media[0].medium)
+        };
+        assert_eq!(g.albedo, Rgb::splat(0.75), "{source}");
+        // Value 7's cell centre, (0.75, 0.75, 0.75) of the cube, moved by 1 along x.
+        let p = d.media[0].medium.at(Vec3::new(1.75, 0.75, 0.75));
+        assert!(((p.sigma_a + p.sigma_s).g - 28.0).abs() < 1e-4, "{source}: {p:?}");
+        assert_eq!(d.media[0].medium.at(Vec3::splat(0.75)).sigma_s, Rgb::BLACK, "{source}");
     }
 }

@@ -35,24 +35,15 @@ pub(super) fn make_named(r: &mut Reader, name: String, p: &Params, here: Locatio
         r.media.insert(name, None);
         return Ok(());
     }
-    let (sigma_a, sigma_s, phase) = coefficients(r, &name, p, &here)?;
+    let medium = coefficients(r, &name, p, &here)?;
     unused(r, p, "medium homogeneous", &here);
-    add(
-        r,
-        name,
-        Medium::Homogeneous(Homogeneous {
-            sigma_a,
-            sigma_s,
-            phase,
-        }),
-        here,
-    );
+    add(r, name, Medium::Homogeneous(medium), here);
     Ok(())
 }
 
 /// σa and σs (`sigma_a`, `sigma_s`, each 1 by default, times `scale`) and the phase
 /// function (`g`) of a `MakeNamedMedium`; presets and emission are warned and ignored.
-fn coefficients(r: &mut Reader, name: &str, p: &Params, here: &Location) -> Result<(Rgb, Rgb, Phase)> {
+fn coefficients(r: &mut Reader, name: &str, p: &Params, here: &Location) -> Result<Homogeneous> {
     if p.string("preset")?.is_some() {
         r.warn(
             "medium preset",
@@ -85,7 +76,11 @@ fn coefficients(r: &mut Reader, name: &str, p: &Params, here: &Location) -> Resu
     } else {
         Phase::HenyeyGreenstein(HenyeyGreenstein::new(g))
     };
-    Ok((sigma_a, sigma_s, phase))
+    Ok(Homogeneous {
+        sigma_a,
+        sigma_s,
+        phase,
+    })
 }
 
 /// Adds `medium` to the scene under `name`.
@@ -129,29 +124,21 @@ fn uniform_grid(r: &mut Reader, name: String, p: &Params, here: Location) -> Res
     if !(p1.cmpgt(p0).all() && (p1 - p0).is_finite()) {
         return Err(fail(format!("the box p0 {p0} to p1 {p1} is empty")));
     }
-    let (sigma_a, sigma_s, phase) = coefficients(r, &name, p, &here)?;
-    let sigma_t = sigma_a + sigma_s;
-    let albedo = Rgb::new(
-        ratio(sigma_s.r, sigma_t.r),
-        ratio(sigma_s.g, sigma_t.g),
-        ratio(sigma_s.b, sigma_t.b),
-    );
+    let c = coefficients(r, &name, p, &here)?;
     let to_world = Transform::scale(p1 - p0)
         .ok_or_else(|| fail("the box is degenerate".into()))?
         .then(Transform::translate(p0))
         .then(r.state.ctm);
     unused(r, p, "medium uniformgrid", &here);
-    let medium = Medium::Grid(GridMedium::new(Arc::new(grid), sigma_t, albedo, phase, to_world));
+    let medium = Medium::Grid(GridMedium::new(
+        Arc::new(grid),
+        c.sigma_t(),
+        c.albedo(),
+        c.phase,
+        to_world,
+    ));
     add(r, name, medium, here);
     Ok(())
-}
-
-fn ratio(a: f32, b: f32) -> f32 {
-    if b > 0.0 {
-        a / b
-    } else {
-        0.0
-    }
 }
 
 /// The medium named `name` ("" is vacuum), which `MakeNamedMedium` made before.
