@@ -17,6 +17,7 @@ pub mod ray;
 pub mod rng;
 pub mod samplers;
 pub mod simd;
+pub mod spectral;
 pub mod spectrum;
 pub mod spherical;
 pub mod transform;
