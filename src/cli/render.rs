@@ -340,6 +340,14 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
     if desc.render.integrator == IntegratorKind::Env && desc.environment.is_none() {
         eprintln!("warning: `env` lights surfaces by the environment only, and the scene has no [environment]: only emitters seen directly will show");
     }
+    if !desc.media.is_empty() && caps.media {
+        let list: Vec<String> = desc
+            .media
+            .iter()
+            .map(|m| format!("`{}` {}", m.name, m.medium.summary()))
+            .collect();
+        eprintln!("media: {}", list.join("; "));
+    }
     if !desc.media.is_empty() && !caps.media {
         eprintln!(
             "warning: {} renders the scene's participating media as vacuum; `--integrator volpath` renders them",

@@ -123,6 +123,13 @@ impl GridMedium {
     }
 }
 
+impl GridMedium {
+    /// The majorant grid's size in bytes (fixed: [`MAJORANT_RES`]³ floats).
+    pub fn majorant_bytes(&self) -> usize {
+        4 * self.majorants.len()
+    }
+}
+
 impl MediumModel for GridMedium {
     fn at(&self, p: Vec3) -> MediumPoint {
         let sigma_t = self.sigma_t * self.density.lookup(self.to_grid.point(p));

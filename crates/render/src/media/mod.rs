@@ -100,6 +100,25 @@ impl Medium {
     pub fn is_homogeneous(&self) -> bool {
         self.model().is_homogeneous()
     }
+
+    /// What the medium is and the memory its tables take, for the render's report (e.g.
+    /// "grid 40x40x40, 250 KiB + 16 KiB of majorants").
+    pub fn summary(&self) -> String {
+        match self {
+            Medium::Homogeneous(_) => "homogeneous".into(),
+            Medium::Grid(g) => {
+                let r = g.density.res;
+                format!(
+                    "grid {}x{}x{}, {} KiB + {} KiB of majorants",
+                    r.x,
+                    r.y,
+                    r.z,
+                    (4 * g.density.values.len()).div_ceil(1024),
+                    g.majorant_bytes().div_ceil(1024)
+                )
+            }
+        }
+    }
 }
 
 /// The media on the two sides of a surface: `inside` behind its geometric normal,
