@@ -15,6 +15,7 @@ pub mod mis;
 pub mod optics;
 pub mod phase;
 mod scene;
+pub mod spectral;
 #[cfg(test)]
 mod test_payload;
 pub mod texture;

@@ -12,6 +12,7 @@
 //! eight-lane instructions with the same floats per lane.
 
 use super::microfacet::Ggx;
+use super::Role;
 use super::{one_lane_methods, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays, TransportMode};
 use crate::optics::{clamp_unit, fresnel_conductor};
 use glam::{Vec2, Vec3};
@@ -80,12 +81,12 @@ impl<R: Real, S: Spectrum<R>> ConductorLanes<R, S> {
     /// converted by `to` (as a spectral renderer turns RGB parameters into values at a
     /// path's wavelengths).
     #[inline(always)]
-    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(S) -> T) -> ConductorLanes<R, T> {
+    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(Role, S) -> T) -> ConductorLanes<R, T> {
         ConductorLanes {
-            eta: to(self.eta),
-            k: to(self.k),
+            eta: to(Role::Eta, self.eta),
+            k: to(Role::K, self.k),
             schlick: self.schlick,
-            specular: to(self.specular),
+            specular: to(Role::Specular, self.specular),
             ggx: self.ggx,
             rough: self.rough,
         }

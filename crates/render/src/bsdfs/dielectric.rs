@@ -8,6 +8,7 @@
 //! Radiance crossing into a denser medium is scaled by 1/η² (pbrt-v4 section 9.5.2); importance is not.
 
 use super::microfacet::Ggx;
+use super::Role;
 use super::{
     one_lane_methods, reflect_z, reflect_z_lanes, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays,
     TransportMode,
@@ -56,11 +57,11 @@ impl<R: Real, S: Spectrum<R>> DielectricLanes<R, S> {
     /// The same BSDF carrying the payload `T`, its tints converted by `to` (as a spectral
     /// renderer turns RGB parameters into values at a path's wavelengths).
     #[inline(always)]
-    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(S) -> T) -> DielectricLanes<R, T> {
+    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(Role, S) -> T) -> DielectricLanes<R, T> {
         DielectricLanes {
             eta: self.eta,
-            reflectance: to(self.reflectance),
-            transmittance: to(self.transmittance),
+            reflectance: to(Role::Specular, self.reflectance),
+            transmittance: to(Role::Transmittance, self.transmittance),
             ggx: self.ggx,
             rough: self.rough,
             importance: self.importance,

@@ -5,6 +5,7 @@
 //! one-lane instance, and the path tracer's eight-lane bounce (`diffuse_lanes.rs`) calls
 //! the same routines.
 
+use super::Role;
 use super::{one_lane_methods, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, TransportMode};
 use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, Real, V3};
@@ -36,8 +37,8 @@ impl<R: Real, S: Spectrum<R>> DiffuseLanes<R, S> {
     /// The same BSDF carrying the payload `T`, its colour converted by `to` (as a spectral
     /// renderer turns RGB parameters into values at a path's wavelengths).
     #[inline(always)]
-    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(S) -> T) -> DiffuseLanes<R, T> {
-        DiffuseLanes::new(to(self.reflectance))
+    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(Role, S) -> T) -> DiffuseLanes<R, T> {
+        DiffuseLanes::new(to(Role::Reflectance, self.reflectance))
     }
 }
 

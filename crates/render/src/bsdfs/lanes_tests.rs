@@ -276,7 +276,7 @@ fn compare_payloads(rng: &mut Pcg32, rgb: &impl LaneKernel<F8>, four: &impl Lane
 fn a_four_channel_payload_gives_each_channel_the_rgb_floats() {
     let mut rng = Pcg32::new(16, 5);
     let coats = coatings();
-    let to4 = Rgbg::of;
+    let to4 = |_: Role, v| Rgbg::of(v);
     for _ in 0..ROUNDS / 4 {
         let mode = if rng.next_below(2) == 0 {
             TransportMode::Radiance

@@ -21,6 +21,7 @@ mod lanes_tests;
 mod layered;
 mod layered_walk;
 pub mod microfacet;
+mod payload;
 mod phong;
 mod plastic;
 #[cfg(test)]
@@ -35,6 +36,7 @@ pub use dielectric::{Dielectric, DielectricLanes, Lobe};
 pub use diffuse::{Diffuse, DiffuseLanes};
 pub use layered::{LayerBase, Layered};
 pub use layered_walk::{BaseLanes, LayeredLanes};
+pub use payload::SampleIn;
 pub use phong::{PhongBsdf, PhongLanes};
 pub use plastic::{Coating, Plastic, PlasticLanes};
 
@@ -42,6 +44,33 @@ use glam::{Vec2, Vec3};
 use penumbra_core::lanes::{Lane8, Real, V3};
 use penumbra_core::spectrum::Spectrum;
 use penumbra_core::Rgb;
+
+/// What a colour of a BSDF kernel is, for [`DiffuseLanes::with_spectrum`] and its kin:
+/// which parameter of the material it came from, so that a spectral renderer can take it
+/// from the material's spectrum for that parameter, or uplift the RGB as a reflectance
+/// ([`Role::bounded`]) or as an unbounded quantity (a conductor's η and k).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Role {
+    /// The diffuse or base reflectance.
+    Reflectance,
+    /// A specular reflectance or tint.
+    Specular,
+    /// A specular transmittance.
+    Transmittance,
+    /// A perfect mirror's reflectance (Phong's `mirror`).
+    Mirror,
+    /// A conductor's refractive index.
+    Eta,
+    /// A conductor's absorption coefficient.
+    K,
+}
+
+impl Role {
+    /// Whether the parameter is a reflectance in [0, 1] (not η or k).
+    pub fn bounded(self) -> bool {
+        !matches!(self, Role::Eta | Role::K)
+    }
+}
 
 /// Which quantity a path carries: radiance from the camera's side, or importance from the
 /// lights' (light tracing, photons). Refraction scales radiance by 1/η² and importance not.

@@ -9,6 +9,7 @@
 //! `eval`, `pdf`, `sample` and the Whitted integrator's `specular_rays`) is the one-lane
 //! instance.
 
+use super::Role;
 use super::{
     one_lane_methods, reflect_z_lanes, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays,
     TransportMode,
@@ -105,13 +106,13 @@ impl<R: Real, S: Spectrum<R>> PhongLanes<R, S> {
     /// The same BSDF carrying the payload `T`, its colours converted by `to` (as a
     /// spectral renderer turns RGB parameters into values at a path's wavelengths).
     #[inline(always)]
-    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(S) -> T) -> PhongLanes<R, T> {
+    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(Role, S) -> T) -> PhongLanes<R, T> {
         PhongLanes {
-            diffuse: to(self.diffuse),
-            specular: to(self.specular),
+            diffuse: to(Role::Reflectance, self.diffuse),
+            specular: to(Role::Specular, self.specular),
             exponent: self.exponent,
-            mirror: to(self.mirror),
-            transmission: to(self.transmission),
+            mirror: to(Role::Mirror, self.mirror),
+            transmission: to(Role::Transmittance, self.transmission),
             eta: self.eta,
             radiance: self.radiance,
         }

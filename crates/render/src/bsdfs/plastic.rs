@@ -13,6 +13,7 @@
 //! env-materials sphere 15% brighter than Mitsuba's.
 
 use super::microfacet::Ggx;
+use super::Role;
 use super::{
     one_lane_methods, reflect_z, BsdfModel, BsdfSample, Gather, LaneKernel, LaneSample, SpecularRays, TransportMode,
 };
@@ -203,10 +204,10 @@ impl<'a, R: Real, S: Spectrum<R>> PlasticLanes<'a, R, S> {
     /// The same BSDF carrying the payload `T`, its colours converted by `to` (as a
     /// spectral renderer turns RGB parameters into values at a path's wavelengths).
     #[inline(always)]
-    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(S) -> T) -> PlasticLanes<'a, R, T> {
+    pub fn with_spectrum<T: Spectrum<R>>(self, to: impl Fn(Role, S) -> T) -> PlasticLanes<'a, R, T> {
         PlasticLanes {
-            diffuse: to(self.diffuse),
-            specular: to(self.specular),
+            diffuse: to(Role::Reflectance, self.diffuse),
+            specular: to(Role::Specular, self.specular),
             eta: self.eta,
             internal_reflectance: self.internal_reflectance,
             tables: self.tables,
