@@ -36,6 +36,7 @@ fn add(d: &mut SceneDesc, kind: ShapeKind, material: Phong) {
     d.materials.push(MaterialDesc {
         name: format!("m{}", d.materials.len()),
         material: Material::Phong(material),
+        spectra: None,
     });
     d.shapes.push(ShapeDesc {
         kind,

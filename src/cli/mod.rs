@@ -70,6 +70,13 @@ pub struct RenderArgs {
     /// transport over bidirectional paths; --spp counts mutations per pixel).
     #[arg(long)]
     pub integrator: Option<String>,
+    /// Render spectrally: each path carries four sampled wavelengths (path and volpath
+    /// integrators); the default when the scene gives spectra by wavelength.
+    #[arg(long, conflicts_with = "rgb")]
+    pub spectral: bool,
+    /// Render in RGB even where the scene gives spectra (they become their colours).
+    #[arg(long)]
+    pub rgb: bool,
     /// How `direct` samples the lights: mis (default), grid, uniform, stratified,
     /// solid-angle, bsdf.
     #[arg(long)]

@@ -64,6 +64,9 @@ fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) -> Result<(), Failur
         }
     }
     let r = &mut desc.render;
+    if args.spectral || args.rgb {
+        r.spectral = args.spectral;
+    }
     if let Some(spp) = args.spp {
         r.spp = spp;
     }
@@ -339,6 +342,12 @@ pub fn run(args: RenderArgs) -> Result<(), Failure> {
     }
     if desc.render.integrator == IntegratorKind::Env && desc.environment.is_none() {
         eprintln!("warning: `env` lights surfaces by the environment only, and the scene has no [environment]: only emitters seen directly will show");
+    }
+    if desc.render.spectral && !caps.spectral {
+        eprintln!(
+            "warning: {} renders in RGB: spectral rendering is done by path and volpath",
+            IntegratorKind::NAMES[desc.render.integrator as usize]
+        );
     }
     if !desc.media.is_empty() && caps.media {
         let list: Vec<String> = desc

@@ -67,6 +67,8 @@ pub struct Capabilities {
     /// Renders participating media (the others render a scene as if its media were
     /// vacuum).
     pub media: bool,
+    /// Renders spectrally when the scene asks (the others render its colours in RGB).
+    pub spectral: bool,
 }
 
 impl Default for Capabilities {
@@ -80,6 +82,7 @@ impl Default for Capabilities {
             carries_frames: false,
             strategy_images: false,
             media: false,
+            spectral: false,
         }
     }
 }

@@ -3,6 +3,7 @@
 
 use crate::lights::{AreaLight, Environment, Light, LightSet, SceneSphere};
 use crate::media::{Medium, MediumInterface};
+use crate::spectral::{EmitterSpectrum, MaterialSpectra};
 use crate::{Camera, Filter, Material};
 use glam::Vec3;
 use penumbra_core::{Ray, Rgb};
@@ -40,6 +41,13 @@ pub struct Scene {
     /// Whether each material is [`Material::null`], a boundary between media only; made
     /// by [`Scene::prepared`] (the per-hit test reads it instead of comparing materials).
     pub null_materials: Vec<bool>,
+    /// Whether paths carry four sampled wavelengths instead of RGB ([`crate::spectral`]).
+    pub spectral: bool,
+    /// The spectra materials give for their parameters, per material (empty, or as long as
+    /// `materials`); used in spectral mode.
+    pub material_spectra: Vec<Option<Arc<MaterialSpectra>>>,
+    /// The emitters' own spectra, per light (empty, or as long as the light list).
+    pub light_spectra: Vec<Option<EmitterSpectrum>>,
 }
 
 /// A ray's closest surface hit, with what shading needs.
@@ -88,6 +96,17 @@ impl Scene {
     /// Whether scene object `object` is only a boundary between media ([`Material::null`]).
     pub fn is_boundary(&self, object: u32) -> bool {
         self.null_materials[self.object_materials[object as usize] as usize]
+    }
+
+    /// The spectra the material of scene object `object` gives, if any.
+    pub fn spectra_of(&self, object: u32) -> Option<&MaterialSpectra> {
+        let m = *self.object_materials.get(object as usize)? as usize;
+        self.material_spectra.get(m)?.as_deref()
+    }
+
+    /// The spectrum of light `index`, if it has its own.
+    pub fn light_spectrum(&self, index: u32) -> Option<&EmitterSpectrum> {
+        self.light_spectra.get(index as usize)?.as_ref()
     }
 
     /// The material of scene object `object`.

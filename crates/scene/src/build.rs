@@ -9,8 +9,10 @@ use penumbra_core::{Draw, SamplerKind, Transform};
 use penumbra_geometry::shapes::{Cuboid, Disk, Plane, Quad, Sphere};
 use penumbra_geometry::{GeometryBuilder, Instance, MeshAccel, Shape};
 use penumbra_render::cameras::{Orthographic, Perspective};
+use penumbra_render::integrators::IntegratorKind;
 use penumbra_render::lights::{Directional, Environment, LightSetBuilder, Point, Spot};
 use penumbra_render::materials::{Phong, MAX_NESTING};
+use penumbra_render::spectral::EmitterSpectrum;
 use penumbra_render::texture::TextureImage;
 use penumbra_render::{Camera, Light, Material, Scene};
 use std::sync::Arc;
@@ -107,7 +109,11 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         object_media.push(s.media);
         if let Some(emission) = &s.emission {
             let area = area_lights(&s.kind, t, emission, &desc.meshes).map_err(|e| fail(&s.location, &e))?;
-            emitters.push((object, area));
+            let spectrum = emission.spectrum.clone().map(|spectrum| EmitterSpectrum {
+                spectrum,
+                rgb: emission.radiance,
+            });
+            emitters.push((object, area, spectrum));
         }
     }
     let geometry = Arc::new(builder.build());
@@ -152,7 +158,10 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
     };
 
     let mut lights = LightSetBuilder::new(scene_radius);
-    for (object, area) in emitters {
+    // The emitters' spectra, per light: the emitters' lights come first, in this order.
+    let mut light_spectra = Vec::new();
+    for (object, area, spectrum) in emitters {
+        light_spectra.extend(std::iter::repeat_n(spectrum, area.len()));
         lights.add_emitter(object, area);
     }
     for light in desc.lights.iter().map(|l| match *l {
@@ -203,6 +212,11 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         object_media,
         camera_medium: desc.camera_medium,
         null_materials: Vec::new(),
+        // Only `path` and `volpath` trace spectral paths; the others render RGB colours.
+        spectral: desc.render.spectral
+            && matches!(desc.render.integrator, IntegratorKind::Path | IntegratorKind::Volpath),
+        material_spectra: desc.materials.iter().map(|m| m.spectra.clone().map(Arc::new)).collect(),
+        light_spectra,
     }
     .prepared())
 }

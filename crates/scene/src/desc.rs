@@ -9,6 +9,7 @@ use penumbra_geometry::{AccelKind, TriangleMesh};
 use penumbra_render::cameras::FovAxis;
 use penumbra_render::integrators::{DirectOptions, Integrator, IntegratorKind, IntegratorOptions};
 use penumbra_render::media::{Medium, MediumInterface};
+use penumbra_render::spectral::{MaterialSpectra, SpectrumValue};
 use penumbra_render::{Filter, Material, Texture};
 use std::sync::Arc;
 
@@ -58,6 +59,8 @@ pub struct RenderDesc {
     pub photon: penumbra_render::integrators::PhotonOptions,
     /// Settings of the `env` integrator.
     pub env: penumbra_render::integrators::EnvOptions,
+    /// Paths carry four sampled wavelengths instead of RGB (`path` and `volpath`).
+    pub spectral: bool,
 }
 
 impl Default for RenderDesc {
@@ -78,6 +81,7 @@ impl Default for RenderDesc {
             mlt: Default::default(),
             photon: Default::default(),
             env: Default::default(),
+            spectral: false,
         }
     }
 }
@@ -177,6 +181,9 @@ impl Default for CameraDesc {
 pub struct MaterialDesc {
     pub name: String,
     pub material: Material,
+    /// The spectra the file gives for some of the material's parameters (spectral mode
+    /// evaluates them; RGB mode uses `material`'s colours, their projections).
+    pub spectra: Option<MaterialSpectra>,
 }
 
 /// A named participating medium.
@@ -209,6 +216,8 @@ pub struct Emission {
     pub radiance: Rgb,
     pub two_sided: bool,
     pub texture: Option<Texture>,
+    /// The emitter's own spectrum, whose colour `radiance` is (spectral mode uses it).
+    pub spectrum: Option<SpectrumValue>,
 }
 
 #[derive(Clone, Debug)]

@@ -26,7 +26,7 @@ use super::bsdf_lanes::{BsdfAnswer, BsdfQuery, Buckets};
 use super::light_lanes::{sample_lights, LightRequest};
 use super::nee::{self, LightPoint, LightStrategy, Shading};
 use super::path_diffuse::{Columns, LaneTable};
-use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts, Splat};
+use super::{Integrator, IntegratorOptions, MisHeuristic, RayCounts, Splat, VolPath};
 use crate::bsdfs::BsdfSample;
 use crate::interface::Progress;
 use crate::lights::{AreaSampling, LightSelection};
@@ -102,6 +102,13 @@ impl<const N: usize> Shadows<'_, N> {
 }
 
 impl Integrator for PathTracer {
+    fn capabilities(&self) -> crate::interface::Capabilities {
+        crate::interface::Capabilities {
+            spectral: true,
+            ..Default::default()
+        }
+    }
+
     /// The wavefront's batch: [`BATCH`] paths traced and shaded together.
     fn batch_size(&self) -> usize {
         BATCH
@@ -120,6 +127,9 @@ impl Integrator for PathTracer {
         counts: &mut RayCounts,
         _: &mut Vec<Splat>,
     ) -> Rgb {
+        if scene.spectral {
+            return VolPath::new(self.options).trace(scene, camera_ray, sampler, counts, &mut Vec::new());
+        }
         let mut out = [Rgb::BLACK];
         let batch = Batch {
             rays: std::slice::from_ref(camera_ray),
@@ -139,6 +149,16 @@ impl Integrator for PathTracer {
         counts: &mut RayCounts,
         _: &mut Vec<Splat>,
     ) {
+        if scene.spectral {
+            // Spectral paths are traced one at a time by `volpath`'s program over the
+            // wavelengths' payload (the same image `volpath` gives without media).
+            let volpath = VolPath::new(self.options);
+            let mut segments = Vec::new();
+            for ((ray, sampler), out) in camera_rays.iter().zip(samplers).zip(out) {
+                *out = volpath.trace(scene, ray, sampler, counts, &mut segments);
+            }
+            return;
+        }
         for ((rays, samplers), out) in camera_rays
             .chunks(BATCH)
             .zip(samplers.chunks_mut(BATCH))

@@ -11,18 +11,25 @@
 //! heuristic. Russian roulette as `path` (Mitsuba's rule, on the throughput over the mean
 //! of `r_u`), after surface and medium vertices alike.
 //!
-//! A scene without media is rendered by `path` itself: the same image, bit for bit.
+//! A scene without media is rendered by `path` itself: the same image, bit for bit. In
+//! spectral mode ([`crate::spectral`]) this integrator renders for `path` too: the same
+//! program over a path's four wavelengths ([`SpectralTint`]; the hero wavelength draws the
+//! free flights), scene colours turned into values there by the tint.
 
 use super::nee::Shading;
 use super::{Integrator, IntegratorOptions, PathTracer, RayCounts, Splat};
+use crate::bsdfs::Role;
 use crate::bsdfs::TransportMode;
 use crate::interface::{Capabilities, Progress};
 use crate::lights::{AreaSampling, LightSelection};
-use crate::media::{attenuation, channel, Medium, MediumInterface, Segment, Step, Tracker};
+use crate::media::{attenuation_in, Medium, MediumInterface, MediumPoint, Segment, Step, Tracker};
 use crate::phase::Phase;
+use crate::spectral::{RgbTint, SpectralTint, Tint};
 use crate::Scene;
 use glam::Vec3;
+use penumbra_core::lanes::V3;
 use penumbra_core::ray::{offset_origin, SHADOW_EPSILON};
+use penumbra_core::spectrum::Spectrum;
 use penumbra_core::{Pcg32, PixelSampler, Ray, Rgb};
 
 pub struct VolPath {
@@ -44,10 +51,20 @@ impl VolPath {
 /// estimate is β L / mean(r_u) for light found by sampling it, and β L / mean(r_u + r_l)
 /// where light sampling could have found it too.
 #[derive(Clone, Copy, Debug)]
-struct Weights {
-    beta: Rgb,
-    r_u: Rgb,
-    r_l: Rgb,
+struct Weights<S> {
+    beta: S,
+    r_u: S,
+    r_l: S,
+}
+
+/// `a` over the mean of the channels of `r` (the path's estimate, see [`Weights`]).
+#[inline]
+fn over_mean<S: Spectrum<f32>>(a: S, r: S) -> S {
+    let mut sum = r.channel(0);
+    for i in 1..S::CHANNELS {
+        sum += r.channel(i);
+    }
+    a.scale(S::CHANNELS as f32 / sum)
 }
 
 /// Where a path scatters: at a surface (with the media on its sides, if it separates
@@ -58,12 +75,15 @@ enum Vertex<'a> {
 }
 
 /// What one path carries through [`VolPath::trace`]'s stages.
-struct PathSampling<'a> {
+struct PathSampling<'a, T> {
+    /// How the scene's colours become the path's payload.
+    tint: T,
     sampler: &'a mut PixelSampler,
     /// The generator of the tracking's numbers (their count varies from path to path, so
     /// they do not come from the sampler's dimensions: pbrt-v4's rule).
     rng: Pcg32,
-    /// The RGB channel whose majorant draws the free flights.
+    /// The payload's channel whose majorant draws the free flights (RGB: chosen per path;
+    /// spectral: the hero wavelength).
     hero: usize,
     /// The majorant segments of the medium being tracked (a buffer the batch's paths share).
     segments: &'a mut Vec<Segment>,
@@ -88,6 +108,7 @@ impl Integrator for VolPath {
     fn capabilities(&self) -> Capabilities {
         Capabilities {
             media: true,
+            spectral: true,
             ..Capabilities::default()
         }
     }
@@ -108,7 +129,7 @@ impl Integrator for VolPath {
         counts: &mut RayCounts,
         splats: &mut Vec<Splat>,
     ) -> Rgb {
-        if scene.media.is_empty() {
+        if scene.media.is_empty() && !scene.spectral {
             return self.path.li(scene, ray, sampler, counts, splats);
         }
         self.trace(scene, ray, sampler, counts, &mut Vec::new())
@@ -123,7 +144,7 @@ impl Integrator for VolPath {
         counts: &mut RayCounts,
         splats: &mut Vec<Splat>,
     ) {
-        if scene.media.is_empty() {
+        if scene.media.is_empty() && !scene.spectral {
             return self.path.li_batch(scene, rays, samplers, out, counts, splats);
         }
         let mut segments = Vec::new();
@@ -143,8 +164,10 @@ impl VolPath {
         (selection, AreaSampling::Adaptive)
     }
 
-    /// The radiance arriving along `camera_ray` in a scene with media.
-    fn trace(
+    /// The radiance arriving along `camera_ray`, as linear RGB: RGB paths in a scene with
+    /// media, paths of four wavelengths in spectral mode (the first number of the sample
+    /// draws the hero channel or wavelength).
+    pub(super) fn trace(
         &self,
         scene: &Scene,
         camera_ray: &Ray,
@@ -152,21 +175,41 @@ impl VolPath {
         counts: &mut RayCounts,
         segments: &mut Vec<Segment>,
     ) -> Rgb {
+        let u = sampler.next_1d();
+        if scene.spectral {
+            let tint = SpectralTint::sample(u);
+            return self.trace_in(scene, camera_ray, sampler, counts, segments, (tint, 0));
+        }
+        let hero = ((u * 3.0) as usize).min(2);
+        self.trace_in(scene, camera_ray, sampler, counts, segments, (RgbTint, hero))
+    }
+
+    /// [`VolPath::trace`] in the payload of `tint`, `hero` its channel that draws flights.
+    fn trace_in<T: Tint>(
+        &self,
+        scene: &Scene,
+        camera_ray: &Ray,
+        sampler: &mut PixelSampler,
+        counts: &mut RayCounts,
+        segments: &mut Vec<Segment>,
+        (tint, hero): (T, usize),
+    ) -> Rgb {
         let (selection, sampling) = self.light_strategy();
-        let hero = ((sampler.next_1d() * 3.0) as usize).min(2);
         let seed = (u64::from(sampler.next_1d().to_bits()) << 32) | u64::from(sampler.next_1d().to_bits());
         let mut s = PathSampling {
+            tint,
             sampler,
             rng: Pcg32::new(seed, 0x0076_6f6c_7061_7468),
             hero,
             segments,
         };
+        let one = T::S::splat(1.0);
         let mut w = Weights {
-            beta: Rgb::WHITE,
-            r_u: Rgb::WHITE,
-            r_l: Rgb::WHITE,
+            beta: one,
+            r_u: one,
+            r_l: one,
         };
-        let mut radiance = Rgb::BLACK;
+        let mut radiance = T::S::splat(0.0);
         let mut ray = Ray::new(camera_ray.origin, camera_ray.dir.normalize());
         let mut medium = scene.camera_medium;
         // Whether the last vertex was the camera or a perfectly specular bounce (no light
@@ -187,10 +230,10 @@ impl VolPath {
                         }
                         let wo = -ray.dir;
                         let at = Vertex::Medium { p, wo, phase };
-                        radiance += self.light_sample(scene, &at, medium, &w, &mut s, counts);
+                        radiance = radiance + self.light_sample(scene, &at, medium, &w, &mut s, counts);
                         // The phase function is sampled exactly: its weight p/pdf is 1.
                         let (wi, pdf) = phase.sample(wo, s.sampler.next_2d());
-                        w.r_l = w.r_u / pdf;
+                        w.r_l = w.r_u.div_by(pdf);
                         (specular, previous, crossings) = (false, p, 0);
                         counts.secondary += 1;
                         ray = Ray::new(p, wi);
@@ -203,7 +246,7 @@ impl VolPath {
                 }
             }
             let Some(hit) = hit else {
-                radiance += self.escaped(scene, &ray, &w, specular);
+                radiance = radiance + self.escaped(scene, &ray, &w, specular, &s.tint);
                 break;
             };
             let it = scene.interaction(&ray, &hit);
@@ -216,9 +259,10 @@ impl VolPath {
                     } else {
                         let p_light =
                             scene.lights.pmf(selection, index) * light.pdf(previous, it.surface.p, normal, sampling);
-                        w.r_u + w.r_l * p_light
+                        w.r_u + w.r_l.scale(p_light)
                     };
-                    radiance += w.beta * le / r.mean();
+                    let le = s.tint.illuminant(scene.light_spectrum(index), le);
+                    radiance = radiance + over_mean(w.beta.mul_each(le), r);
                 }
             }
             let crossing = scene.media_of(it.surface.object).copied();
@@ -238,20 +282,21 @@ impl VolPath {
                 break;
             }
             let sh = Shading::new(&it);
+            let spectra = scene.spectra_of(it.surface.object);
             if sh.bsdf.has_smooth() {
                 let at = Vertex::Surface(&sh, crossing);
-                radiance += self.light_sample(scene, &at, medium, &w, &mut s, counts);
+                radiance = radiance + self.light_sample(scene, &at, medium, &w, &mut s, counts);
             }
             let (u_lobe, u) = (s.sampler.next_1d(), s.sampler.next_2d());
-            let Some(bs) = sh.bsdf.sample(sh.wo, u_lobe, u, TransportMode::Radiance) else {
+            let Some(bs) = sample_bsdf(&sh, spectra, &s.tint, u_lobe, u) else {
                 break;
             };
             let wi = sh.frame.to_world(bs.wi);
             if !sh.agrees(wi, bs.wi) {
                 break;
             }
-            w.beta *= bs.weight;
-            w.r_l = w.r_u / bs.pdf;
+            w.beta = w.beta.mul_each(bs.weight);
+            w.r_l = w.r_u.div_by(bs.pdf);
             eta_scale *= bs.eta * bs.eta;
             let origin = sh.origin_towards(wi);
             (specular, previous, crossings) = (bs.delta, origin, 0);
@@ -265,42 +310,43 @@ impl VolPath {
             }
             depth += 1;
         }
-        radiance
+        s.tint.to_rgb(radiance)
     }
 
     /// The environment (or the background) met by a ray that left the scene, weighted
     /// against the environment's light samples unless the last vertex was specular.
-    fn escaped(&self, scene: &Scene, ray: &Ray, w: &Weights, specular: bool) -> Rgb {
+    fn escaped<T: Tint>(&self, scene: &Scene, ray: &Ray, w: &Weights<T::S>, specular: bool, tint: &T) -> T::S {
         let Some((index, env)) = scene.environment() else {
-            return w.beta * scene.background / w.r_u.mean();
+            return over_mean(w.beta.mul_each(tint.illuminant(None, scene.background)), w.r_u);
         };
         let at = env.lookup(ray.dir);
         let r = if specular {
             w.r_u
         } else {
             let (selection, _) = self.light_strategy();
-            w.r_u + w.r_l * (scene.lights.pmf(selection, index) * env.pdf_at(&at))
+            w.r_u + w.r_l.scale(scene.lights.pmf(selection, index) * env.pdf_at(&at))
         };
-        w.beta * env.le_at(&at) / r.mean()
+        over_mean(w.beta.mul_each(tint.illuminant(None, env.le_at(&at))), r)
     }
 
     /// One light sample at `at` (in `medium`, the vertex's own for a medium point and the
     /// incoming ray's for a surface): its contribution, its shadow ray's transmittance
     /// estimated by ratio tracking, weighed against BSDF or phase sampling (balance
     /// heuristic over both strategies and the three channels).
-    fn light_sample(
+    fn light_sample<T: Tint>(
         &self,
         scene: &Scene,
         at: &Vertex,
         medium: Option<u32>,
-        w: &Weights,
-        s: &mut PathSampling,
+        w: &Weights<T::S>,
+        s: &mut PathSampling<T>,
         counts: &mut RayCounts,
-    ) -> Rgb {
+    ) -> T::S {
+        let zero = T::S::splat(0.0);
         let (selection, sampling) = self.light_strategy();
         let (u_pick, u) = (s.sampler.next_1d(), s.sampler.next_2d());
         let Some((index, p_pick)) = scene.lights.pick(selection, u_pick) else {
-            return Rgb::BLACK;
+            return zero;
         };
         let light = &scene.lights.lights()[index as usize];
         let p = match at {
@@ -308,54 +354,120 @@ impl VolPath {
             Vertex::Medium { p, .. } => *p,
         };
         let Some(ls) = light.sample_li(p, u, sampling) else {
-            return Rgb::BLACK;
+            return zero;
         };
         if ls.li.is_black() || !ls.wi.is_finite() {
-            return Rgb::BLACK;
+            return zero;
         }
         let (f, pdf_scatter, origin, medium) = match at {
             Vertex::Surface(sh, crossing) => {
                 let Some(l) = sh.local(ls.wi) else {
-                    return Rgb::BLACK;
+                    return zero;
                 };
-                let f = sh.bsdf.eval(sh.wo, l, TransportMode::Radiance) * l.z.abs();
-                let pdf = sh.bsdf.pdf(sh.wo, l, TransportMode::Radiance);
+                let spectra = scene.spectra_of(sh.it.surface.object);
+                let (f, pdf) = eval_bsdf(sh, spectra, &s.tint, l);
                 let medium = crossing.map_or(medium, |mi| mi.towards(sh.it.surface.ng, ls.wi));
-                (f, pdf, sh.origin_towards(ls.wi), medium)
+                (f.scale(l.z.abs()), pdf, sh.origin_towards(ls.wi), medium)
             }
             Vertex::Medium { p, wo, phase } => {
                 let v = phase.p(*wo, ls.wi);
-                (Rgb::splat(v), v, *p, medium)
+                (T::S::splat(v), v, *p, medium)
             }
         };
-        if f.is_black() {
-            return Rgb::BLACK;
+        if Spectrum::is_black(f) {
+            return zero;
         }
         let Some(tr) = transmittance(scene, (origin, ls.wi, ls.dist), medium, s, counts) else {
-            return Rgb::BLACK;
+            return zero;
         };
-        let r_l = w.r_u * tr.r_l * (p_pick * ls.pdf);
-        let value = w.beta * f * tr.t * ls.li;
+        let r_l = w.r_u.mul_each(tr.r_l).scale(p_pick * ls.pdf);
+        let li = s.tint.illuminant(scene.light_spectrum(index), ls.li);
+        let value = w.beta.mul_each(f).mul_each(tr.t).mul_each(li);
         if ls.delta {
-            value / r_l.mean()
+            over_mean(value, r_l)
         } else {
-            value / (r_l + w.r_u * tr.r_u * pdf_scatter).mean()
+            over_mean(value, r_l + w.r_u.mul_each(tr.r_u).scale(pdf_scatter))
         }
     }
 
     /// Russian roulette from `rr_depth` on (`path`'s rule, with the throughput β/mean(r_u)):
     /// whether the path survives.
-    fn roulette(&self, w: &mut Weights, eta_scale: f32, depth: u32, sampler: &mut PixelSampler) -> bool {
+    fn roulette<S: Spectrum<f32>>(
+        &self,
+        w: &mut Weights<S>,
+        eta_scale: f32,
+        depth: u32,
+        sampler: &mut PixelSampler,
+    ) -> bool {
         if depth + 1 < self.options.rr_depth {
             return true;
         }
-        let q = ((w.beta / w.r_u.mean()).max_component() * eta_scale).min(0.95);
+        let q = (over_mean(w.beta, w.r_u).max_channel() * eta_scale).min(0.95);
         if sampler.next_1d() >= q {
             return false;
         }
-        w.beta = w.beta / q;
+        w.beta = w.beta.scale(1.0 / q);
         true
     }
+}
+
+/// The BSDF's value and density towards `l` (local) in the tint's payload (a kind without
+/// a kernel over payloads answers in RGB, uplifted as a reflectance).
+fn eval_bsdf<T: Tint>(
+    sh: &Shading,
+    spectra: Option<&crate::spectral::MaterialSpectra>,
+    tint: &T,
+    l: Vec3,
+) -> (T::S, f32) {
+    let mode = TransportMode::Radiance;
+    let to = |role: Role, c: V3<f32>| tint.param(spectra, role, c);
+    match (
+        sh.bsdf.eval_in(sh.wo, l, mode, &to),
+        sh.bsdf.pdf_in(sh.wo, l, mode, &to),
+    ) {
+        (Some(f), Some(pdf)) => (f, pdf),
+        _ => (
+            tint.param(None, Role::Reflectance, sh.bsdf.eval(sh.wo, l, mode).into()),
+            sh.bsdf.pdf(sh.wo, l, mode),
+        ),
+    }
+}
+
+/// A direction from the BSDF, its weight in the tint's payload (see [`eval_bsdf`]).
+fn sample_bsdf<T: Tint>(
+    sh: &Shading,
+    spectra: Option<&crate::spectral::MaterialSpectra>,
+    tint: &T,
+    u_lobe: f32,
+    u: glam::Vec2,
+) -> Option<crate::bsdfs::SampleIn<T::S>> {
+    let mode = TransportMode::Radiance;
+    let to = |role: Role, c: V3<f32>| tint.param(spectra, role, c);
+    match sh.bsdf.sample_in(sh.wo, u_lobe, u, mode, &to) {
+        Some(s) => s,
+        None => sh.bsdf.sample(sh.wo, u_lobe, u, mode).map(|b| crate::bsdfs::SampleIn {
+            wi: b.wi,
+            weight: tint.param(None, Role::Reflectance, b.weight.into()),
+            pdf: b.pdf,
+            delta: b.delta,
+            eta: b.eta,
+        }),
+    }
+}
+
+/// A medium's σt and σs at a point in the tint's payload: σt as an unbounded quantity and
+/// the albedo σs/σt as a reflectance (so that σs ≤ σt at every wavelength, as Mitsuba
+/// models its media's spectra).
+fn coefficients<T: Tint>(tint: &T, mp: &MediumPoint) -> (T::S, T::S) {
+    let sigma_t = mp.sigma_t();
+    let ratio = |s: f32, t: f32| if t > 0.0 { (s / t).min(1.0) } else { 0.0 };
+    let albedo = Rgb::new(
+        ratio(mp.sigma_s.r, sigma_t.r),
+        ratio(mp.sigma_s.g, sigma_t.g),
+        ratio(mp.sigma_s.b, sigma_t.b),
+    );
+    let t = tint.unbounded(sigma_t);
+    (t, tint.param(None, Role::Reflectance, albedo.into()).mul_each(t))
 }
 
 /// Delta tracking of `ray` (unit direction) through `medium` up to `t_max`: each tentative
@@ -365,9 +477,11 @@ impl VolPath {
 /// uses it, keeps the paths that absorption would end and leaves them to Russian roulette,
 /// which costs less variance); its density σt T_maj goes into r_u. A null collision
 /// weights β and r_u by σn T_maj over its density and r_l by σ_maj T_maj (pbrt-v4).
-fn fly(medium: &Medium, ray: &Ray, t_max: f32, w: &mut Weights, s: &mut PathSampling) -> Flight {
+fn fly<T: Tint>(medium: &Medium, ray: &Ray, t_max: f32, w: &mut Weights<T::S>, s: &mut PathSampling<T>) -> Flight {
     let hero = s.hero;
-    let mut walk = Tracker::new(medium, (ray.origin, ray.dir, t_max), hero, s.segments);
+    let tint = &s.tint;
+    let convert = |c: Rgb| tint.unbounded(c);
+    let mut walk = Tracker::new_in(medium, (ray.origin, ray.dir, t_max), hero, s.segments, &convert);
     loop {
         match walk.step(&mut s.rng) {
             Step::End { t_maj } => {
@@ -375,33 +489,33 @@ fn fly(medium: &Medium, ray: &Ray, t_max: f32, w: &mut Weights, s: &mut PathSamp
                     return Flight::Absorbed;
                 };
                 for x in [&mut w.beta, &mut w.r_u, &mut w.r_l] {
-                    *x *= ratio;
+                    *x = x.mul_each(ratio);
                 }
                 return Flight::Through;
             }
             Step::Collision { t, sigma_maj, t_maj } => {
                 let p = ray.at(t);
                 let mp = medium.at(p);
-                let sigma_t = mp.sigma_t();
-                let t_hero = channel(t_maj, hero);
-                if s.rng.next_f32() * channel(sigma_maj, hero) < channel(sigma_t, hero) {
-                    let pdf = t_hero * channel(sigma_t, hero);
-                    w.beta *= t_maj * mp.sigma_s / pdf;
-                    w.r_u *= t_maj * sigma_t / pdf;
-                    if w.beta.is_black() {
+                let (sigma_t, sigma_s) = coefficients(tint, &mp);
+                let t_hero = t_maj.channel(hero);
+                if s.rng.next_f32() * sigma_maj.channel(hero) < sigma_t.channel(hero) {
+                    let pdf = t_hero * sigma_t.channel(hero);
+                    w.beta = w.beta.mul_each(t_maj.mul_each(sigma_s).div_by(pdf));
+                    w.r_u = w.r_u.mul_each(t_maj.mul_each(sigma_t).div_by(pdf));
+                    if Spectrum::is_black(w.beta) {
                         return Flight::Absorbed;
                     }
                     return Flight::Scattered { p, phase: mp.phase };
                 }
-                let sigma_n = (sigma_maj - sigma_t).max(Rgb::BLACK);
-                let pdf = t_hero * channel(sigma_n, hero);
+                let sigma_n = clamp_positive(sigma_maj - sigma_t);
+                let pdf = t_hero * sigma_n.channel(hero);
                 if pdf == 0.0 {
                     return Flight::Absorbed;
                 }
-                w.beta *= t_maj * sigma_n / pdf;
-                w.r_u *= t_maj * sigma_n / pdf;
-                w.r_l *= t_maj * sigma_maj / pdf;
-                if w.beta.is_black() || w.r_u.is_black() {
+                w.beta = w.beta.mul_each(t_maj.mul_each(sigma_n).div_by(pdf));
+                w.r_u = w.r_u.mul_each(t_maj.mul_each(sigma_n).div_by(pdf));
+                w.r_l = w.r_l.mul_each(t_maj.mul_each(sigma_maj).div_by(pdf));
+                if Spectrum::is_black(w.beta) || Spectrum::is_black(w.r_u) {
                     return Flight::Absorbed;
                 }
             }
@@ -409,13 +523,21 @@ fn fly(medium: &Medium, ray: &Ray, t_max: f32, w: &mut Weights, s: &mut PathSamp
     }
 }
 
+/// Each channel of `v`, negatives made 0.
+fn clamp_positive<S: Spectrum<f32>>(mut v: S) -> S {
+    for i in 0..S::CHANNELS {
+        *v.channel_mut(i) = v.channel(i).max(0.0);
+    }
+    v
+}
+
 /// A shadow ray's transmittance estimate `t` and the factors it brings to the rescaled
 /// probabilities of the light-sampled path (`r_l`) and of the same path sampled
 /// unidirectionally (`r_u`).
-struct Transmittance {
-    t: Rgb,
-    r_l: Rgb,
-    r_u: Rgb,
+struct Transmittance<S> {
+    t: S,
+    r_l: S,
+    r_u: S,
 }
 
 /// Ratio tracking (Novák et al. 2014, pbrt-v4's `SampleLd` loop) from `origin` along the
@@ -430,20 +552,21 @@ struct Transmittance {
 /// distance (pbrt-v4's `SpawnRayTo`): going on along the old direction from the pushed-off
 /// point, or shortening the extent by the boundary's hit distance, carried the ray onto the
 /// light itself where the light lies just beyond a boundary (it was then taken as blocked).
-fn transmittance(
+fn transmittance<T: Tint>(
     scene: &Scene,
     (mut origin, dir, dist): (Vec3, Vec3, f32),
     mut medium: Option<u32>,
-    s: &mut PathSampling,
+    s: &mut PathSampling<T>,
     counts: &mut RayCounts,
-) -> Option<Transmittance> {
+) -> Option<Transmittance<T::S>> {
     let hero = s.hero;
     let target = origin + dir * dist;
     let margin = dist * SHADOW_EPSILON;
+    let one = T::S::splat(1.0);
     let mut tr = Transmittance {
-        t: Rgb::WHITE,
-        r_l: Rgb::WHITE,
-        r_u: Rgb::WHITE,
+        t: one,
+        r_l: one,
+        r_u: one,
     };
     let mut dir = dir;
     for _ in 0..=MAX_CROSSINGS {
@@ -471,11 +594,12 @@ fn transmittance(
                 // The expectation of ratio tracking's estimate, which is binary here (no
                 // null collisions): passing, with the hero channel's probability T, it
                 // weighs T/T_hero into the estimate and the two r's.
-                let t = attenuation(m.at(origin).sigma_t(), end);
+                let (sigma_t, _) = coefficients(&s.tint, &m.at(origin));
+                let t = attenuation_in(sigma_t, end);
                 let ratio = over_hero(t, hero)?;
-                tr.t *= t;
-                tr.r_l *= ratio;
-                tr.r_u *= ratio;
+                tr.t = tr.t.mul_each(t);
+                tr.r_l = tr.r_l.mul_each(ratio);
+                tr.r_u = tr.r_u.mul_each(ratio);
             } else if !ratio_tracking(m, &ray, end, s, &mut tr) {
                 return None;
             }
@@ -493,26 +617,35 @@ fn transmittance(
 
 /// Ratio tracking of `ray` (unit direction) through `m` over `[0, end)` into `tr`, as
 /// pbrt-v4's `SampleLd`; whether the estimate is still above zero.
-fn ratio_tracking(m: &Medium, ray: &Ray, end: f32, s: &mut PathSampling, tr: &mut Transmittance) -> bool {
+fn ratio_tracking<T: Tint>(
+    m: &Medium,
+    ray: &Ray,
+    end: f32,
+    s: &mut PathSampling<T>,
+    tr: &mut Transmittance<T::S>,
+) -> bool {
     let hero = s.hero;
-    let mut walk = Tracker::new(m, (ray.origin, ray.dir, end), hero, s.segments);
+    let tint = &s.tint;
+    let convert = |c: Rgb| tint.unbounded(c);
+    let mut walk = Tracker::new_in(m, (ray.origin, ray.dir, end), hero, s.segments, &convert);
     loop {
         match walk.step(&mut s.rng) {
             Step::Collision { t, sigma_maj, t_maj } => {
-                let sigma_n = (sigma_maj - m.at(ray.at(t)).sigma_t()).max(Rgb::BLACK);
-                let pdf = channel(t_maj, hero) * channel(sigma_maj, hero);
-                tr.t *= t_maj * sigma_n / pdf;
-                tr.r_l *= t_maj * sigma_maj / pdf;
-                tr.r_u *= t_maj * sigma_n / pdf;
-                let estimate = tr.t / (tr.r_l + tr.r_u).mean();
-                if estimate.max_component() < 0.05 {
+                let (sigma_t, _) = coefficients(tint, &m.at(ray.at(t)));
+                let sigma_n = clamp_positive(sigma_maj - sigma_t);
+                let pdf = t_maj.channel(hero) * sigma_maj.channel(hero);
+                tr.t = tr.t.mul_each(t_maj.mul_each(sigma_n).div_by(pdf));
+                tr.r_l = tr.r_l.mul_each(t_maj.mul_each(sigma_maj).div_by(pdf));
+                tr.r_u = tr.r_u.mul_each(t_maj.mul_each(sigma_n).div_by(pdf));
+                let estimate = over_mean(tr.t, tr.r_l + tr.r_u);
+                if estimate.max_channel() < 0.05 {
                     tr.t = if s.rng.next_f32() < 0.75 {
-                        Rgb::BLACK
+                        T::S::splat(0.0)
                     } else {
-                        tr.t / 0.25
+                        tr.t.scale(4.0)
                     };
                 }
-                if tr.t.is_black() {
+                if Spectrum::is_black(tr.t) {
                     return false;
                 }
             }
@@ -521,7 +654,7 @@ fn ratio_tracking(m: &Medium, ray: &Ray, end: f32, s: &mut PathSampling, tr: &mu
                     return false;
                 };
                 for x in [&mut tr.t, &mut tr.r_l, &mut tr.r_u] {
-                    *x *= ratio;
+                    *x = x.mul_each(ratio);
                 }
                 return true;
             }
@@ -531,9 +664,9 @@ fn ratio_tracking(m: &Medium, ray: &Ray, end: f32, s: &mut PathSampling, tr: &mu
 
 /// A transmittance `t` over its hero channel's (the probability with which the hero
 /// channel's tracking passed); `None` where that is zero.
-fn over_hero(t: Rgb, hero: usize) -> Option<Rgb> {
-    let p = channel(t, hero);
-    (p > 0.0).then(|| t / p)
+fn over_hero<S: Spectrum<f32>>(t: S, hero: usize) -> Option<S> {
+    let p = t.channel(hero);
+    (p > 0.0).then(|| t.div_by(p))
 }
 
 /// The surface point `p` (geometric normal `ng`) pushed off to the side `dir` leaves by.

@@ -302,10 +302,7 @@ mod tests {
                 let mut alive = true;
                 let mut weight = 1.0f64;
                 while let Step::Collision { t, sigma_maj, .. } = walk.step(&mut rng) {
-                    let (st, sm) = (
-                        crate::media::channel(m.at(r.0 + r.1 * t).sigma_t(), 0),
-                        crate::media::channel(sigma_maj, 0),
-                    );
+                    let (st, sm) = (crate::media::channel(m.at(r.0 + r.1 * t).sigma_t(), 0), sigma_maj.x);
                     weight *= (1.0 - st / sm) as f64;
                     if alive && rng.next_f32() * sm < st {
                         alive = false;

@@ -18,7 +18,7 @@ mod tracker;
 
 pub use grid::{DensityGrid, GridMedium};
 pub use homogeneous::Homogeneous;
-pub use tracker::{attenuation, Step, Tracker};
+pub use tracker::{attenuation, attenuation_in, Step, Tracker};
 
 use crate::phase::Phase;
 use glam::Vec3;

@@ -81,6 +81,7 @@ pub fn read(path: &Path) -> Result<SceneDesc, SceneError> {
         desc.materials.push(MaterialDesc {
             name: format!("material {}", desc.materials.len()),
             material,
+            spectra: None,
         });
         desc.shapes.push(ShapeDesc {
             kind: ShapeKind::Mesh(Arc::new(mesh)),

@@ -43,6 +43,7 @@ pub fn default_material(desc: &mut SceneDesc, made: &mut Option<usize>, material
         desc.materials.push(crate::desc::MaterialDesc {
             name: "default".into(),
             material: material(),
+            spectra: None,
         });
         desc.materials.len() - 1
     })

@@ -73,6 +73,7 @@ pub fn material(m: &tobj::Material, dir: &Path, warn: &mut dyn FnMut(String)) ->
         radiance,
         two_sided: true,
         texture: None,
+        spectrum: None,
     });
     (material, emission)
 }

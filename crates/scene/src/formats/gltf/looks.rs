@@ -116,11 +116,13 @@ impl Reader {
                     Some(info) => Some(self.texture(&info, &path, true, |c| c)?),
                     None => None,
                 },
+                spectrum: None,
             }),
         };
         self.desc.materials.push(MaterialDesc {
             name: m.name().unwrap_or("glTF material").to_string(),
             material,
+            spectra: None,
         });
         Ok((self.desc.materials.len() - 1, emission))
     }

@@ -4,6 +4,7 @@ use super::props::Props;
 use super::{warn_unused, At, Reader, Result};
 use penumbra_core::Rgb;
 use penumbra_render::bsdfs::MetalFresnel;
+use penumbra_render::bsdfs::Role;
 use penumbra_render::materials::{metal_ior, Roughness};
 use penumbra_render::materials::{ConductorMaterial, DielectricMaterial, DiffuseMaterial};
 use penumbra_render::texture::Wrap;
@@ -69,6 +70,17 @@ pub fn bsdf(r: &mut Reader, at: At) -> Result<Material> {
     let p = r.props(at);
     let kind = r.require(at, "type")?;
     let what = format!("bsdf {kind}");
+    // Parameters given as spectra by wavelength, kept for spectral rendering.
+    for (name, role) in [
+        ("reflectance", Role::Reflectance),
+        ("diffuse_reflectance", Role::Reflectance),
+        ("specular_reflectance", Role::Specular),
+        ("specular_transmittance", Role::Transmittance),
+    ] {
+        if let Some(s) = p.spectrum(r, name)? {
+            r.spectra.by_role.push((role, s));
+        }
+    }
     let material = match kind.as_str() {
         "diffuse" => Material::Diffuse(DiffuseMaterial {
             reflectance: p.texture(r, "reflectance", 0.5, false)?,

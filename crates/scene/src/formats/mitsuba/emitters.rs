@@ -74,12 +74,14 @@ pub fn emitter(r: &mut Reader, at: At) -> Result<()> {
                 ));
             };
             let radiance = p.color_or(r, "radiance", 1.0)?;
+            let spectrum = p.spectrum(r, "radiance")?;
             r.area_emitters.insert(
                 id,
                 Emission {
                     radiance,
                     two_sided: false,
                     texture: None,
+                    spectrum,
                 },
             );
         }

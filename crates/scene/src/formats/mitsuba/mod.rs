@@ -44,6 +44,8 @@ pub fn read(path: &Path, defines: &[(String, String)]) -> Result<SceneDesc> {
         area_emitters: HashMap::new(),
         pending: Vec::new(),
         default_material: None,
+        spectra: Default::default(),
+        sampled_spectra: false,
     };
     reader.desc.render = plugins::default_render();
     reader.desc.camera = plugins::default_camera();
@@ -56,6 +58,9 @@ pub fn read(path: &Path, defines: &[(String, String)]) -> Result<SceneDesc> {
         );
     }
     reader.desc.warnings = reader.warned.into_values().collect();
+    // Spectra given by wavelength ask for spectral rendering (as `cbox-spectral.xml`,
+    // written for Mitsuba's spectral variants); `--rgb` overrides.
+    reader.desc.render.spectral = reader.sampled_spectra;
     Ok(reader.desc)
 }
 
@@ -114,6 +119,10 @@ struct Reader {
     pub pending: Vec<(usize, String, Location)>,
     /// The grey diffuse of shapes without a BSDF, once made.
     pub default_material: Option<usize>,
+    /// The spectra of the material being read, by parameter (taken by `add_material`).
+    pub spectra: penumbra_render::spectral::MaterialSpectra,
+    /// Whether any spectrum was given by wavelength (the scene asks for spectral rendering).
+    pub sampled_spectra: bool,
 }
 
 impl Reader {
@@ -289,6 +298,7 @@ impl Reader {
         self.desc.materials.push(crate::desc::MaterialDesc {
             name: id.clone().unwrap_or_else(|| format!("bsdf at {}", at.place())),
             material,
+            spectra: (!self.spectra.by_role.is_empty()).then(|| std::mem::take(&mut self.spectra)),
         });
         if let Some(id) = id {
             self.bsdfs.insert(id, index);

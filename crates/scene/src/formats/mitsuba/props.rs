@@ -5,11 +5,14 @@
 use super::spectrum::spectrum_to_rgb;
 use super::{bsdfs, At, Reader, Result};
 use glam::{Mat4, Vec3};
+use penumbra_core::spectral::Tabulated;
 use penumbra_core::{Rgb, Transform};
+use penumbra_render::spectral::SpectrumValue;
 use penumbra_render::Texture;
 use roxmltree::Node;
 use std::cell::RefCell;
 use std::collections::HashSet;
+use std::sync::Arc;
 
 pub(super) struct Props<'a, 'input> {
     pub at: At<'a, 'input>,
@@ -125,6 +128,22 @@ impl<'a, 'input> Props<'a, 'input> {
         Ok(self.color(r, name)?.unwrap_or(Rgb::splat(default)))
     }
 
+    /// The spectrum `name` gives by wavelength (a `<spectrum value="λ:v, ...">`), if it does.
+    pub fn spectrum(&self, r: &mut Reader, name: &str) -> Result<Option<SpectrumValue>> {
+        let Some(v) = self.get(name).filter(|v| v.tag() == "spectrum") else {
+            return Ok(None);
+        };
+        if v.node.has_attribute("filename") {
+            return Ok(None);
+        }
+        let Some(samples) = sampled(r, v)? else {
+            return Ok(None);
+        };
+        let points: Vec<(f32, f32)> = samples.iter().map(|&(l, x)| (l as f32, x as f32)).collect();
+        let t = Tabulated::new(&points).map_err(|e| r.attr_error(v, "value", e))?;
+        Ok(Some(SpectrumValue::Tabulated(Arc::new(t))))
+    }
+
     /// A colour or a texture (nested, or a `<ref>` to one); `data` textures (roughness,
     /// weights) read 8-bit images without the sRGB curve.
     pub fn texture(&self, r: &mut Reader, name: &str, default: f32, data: bool) -> Result<Texture> {
@@ -212,31 +231,10 @@ fn color_of(r: &mut Reader, v: At) -> Result<Rgb> {
                 );
                 return Ok(Rgb::WHITE);
             }
-            let s = r.require(v, "value")?;
-            if !s.contains(':') {
-                return Ok(Rgb::splat(number(r, v, "value")?));
+            match sampled(r, v)? {
+                Some(samples) => Ok(spectrum_to_rgb(&samples)),
+                None => Ok(Rgb::splat(number(r, v, "value")?)),
             }
-            let mut samples = Vec::new();
-            for pair in s.split(',').map(str::trim).filter(|p| !p.is_empty()) {
-                let parsed = pair
-                    .split_once(':')
-                    .and_then(|(l, x)| Some((l.trim().parse::<f64>().ok()?, x.trim().parse::<f64>().ok()?)));
-                match parsed {
-                    Some((l, x))
-                        if l.is_finite() && x.is_finite() && samples.last().is_none_or(|p: &(f64, f64)| p.0 < l) =>
-                    {
-                        samples.push((l, x))
-                    }
-                    _ => {
-                        return Err(r.attr_error(
-                            v,
-                            "value",
-                            format!("`{pair}`: expected wavelength:value pairs with increasing wavelengths"),
-                        ))
-                    }
-                }
-            }
-            Ok(spectrum_to_rgb(&samples))
         }
         "rgb" => {
             let n = numbers(r, v, "value")?;
@@ -248,6 +246,35 @@ fn color_of(r: &mut Reader, v: At) -> Result<Rgb> {
         }
         _ => Ok(Rgb::splat(number(r, v, "value")?)),
     }
+}
+
+/// The wavelength:value pairs of a `<spectrum>` given by wavelength; `None` for a uniform
+/// one.
+fn sampled(r: &mut Reader, v: At) -> Result<Option<Vec<(f64, f64)>>> {
+    let s = r.require(v, "value")?;
+    if !s.contains(':') {
+        return Ok(None);
+    }
+    let mut samples = Vec::new();
+    for pair in s.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+        let parsed = pair
+            .split_once(':')
+            .and_then(|(l, x)| Some((l.trim().parse::<f64>().ok()?, x.trim().parse::<f64>().ok()?)));
+        match parsed {
+            Some((l, x)) if l.is_finite() && x.is_finite() && samples.last().is_none_or(|p: &(f64, f64)| p.0 < l) => {
+                samples.push((l, x))
+            }
+            _ => {
+                return Err(r.attr_error(
+                    v,
+                    "value",
+                    format!("`{pair}`: expected wavelength:value pairs with increasing wavelengths"),
+                ))
+            }
+        }
+    }
+    r.sampled_spectra = true;
+    Ok(Some(samples))
 }
 
 /// A `<transform>`: its steps applied in order, each after the ones before.

@@ -90,10 +90,12 @@ pub fn shape(r: &mut Reader, at: At) -> Result<()> {
         match r.require(e, "type")?.as_str() {
             "area" => {
                 let radiance = ep.color_or(r, "radiance", 1.0)?;
+                let spectrum = ep.spectrum(r, "radiance")?;
                 emission = Some(Emission {
                     radiance,
                     two_sided: false,
                     texture: None,
+                    spectrum,
                 });
                 warn_unused(r, &ep, "emitter area");
             }

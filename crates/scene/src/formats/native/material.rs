@@ -94,7 +94,11 @@ pub fn read_all(tables: &[Table]) -> Result<Vec<MaterialDesc>> {
             None => material,
         };
         t.finish()?;
-        out.push(MaterialDesc { name, material });
+        out.push(MaterialDesc {
+            name,
+            material,
+            spectra: None,
+        });
     }
     Ok(out)
 }

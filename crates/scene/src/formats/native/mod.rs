@@ -183,6 +183,10 @@ fn read_render(t: &Table) -> Result<RenderDesc> {
         mlt: d.mlt,
         photon: d.photon,
         env: d.env,
+        spectral: match t.get("spectral") {
+            Some(v) => v.bool()?,
+            None => d.spectral,
+        },
     })
 }
 

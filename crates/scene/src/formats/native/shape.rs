@@ -172,6 +172,7 @@ fn emission(file: &SourceFile, t: &Table, kind: &ShapeKind, warnings: &mut Vec<S
         radiance,
         two_sided: two_sided.map_or(Ok(false), |v| v.bool())?,
         texture: None,
+        spectrum: None,
     }))
 }
 

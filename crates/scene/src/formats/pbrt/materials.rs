@@ -174,6 +174,7 @@ pub(super) fn material(r: &mut Reader, kind: &str, p: &Params, here: Location) -
     r.desc.materials.push(crate::desc::MaterialDesc {
         name: format!("{kind} at {here}"),
         material: m,
+        spectra: None,
     });
     Ok(index)
 }

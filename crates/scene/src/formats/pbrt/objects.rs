@@ -423,6 +423,7 @@ pub fn area_light(r: &mut Reader, kind: &str, p: &Params, here: Location) -> Res
         radiance: emitted(r, p, "L")?,
         two_sided: p.bool("twosided", false)?,
         texture: None,
+        spectrum: None,
     };
     unused(r, p, &format!("area light {kind}"), &here);
     Ok(Some(e))
