@@ -63,3 +63,11 @@ fn fog_in_the_cornell_box_converges_to_mitsuba() {
 fn scattering_balls_converge_to_mitsuba() {
     converges_to_mitsuba("media-spheres");
 }
+
+/// A heterogeneous cloud (`scenes/media/cloud.vol`, a 40³ density grid read from
+/// Mitsuba's `.vol` format, forward Henyey-Greenstein, coloured albedo) behind a null box in
+/// the Cornell box: grid media, their majorants and the file reader against Mitsuba.
+#[test]
+fn a_grid_cloud_converges_to_mitsuba() {
+    converges_to_mitsuba("cloud-cbox");
+}
