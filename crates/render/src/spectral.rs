@@ -22,6 +22,57 @@ pub enum SpectrumValue {
     Tabulated(Arc<Tabulated>),
     /// A blackbody's normalised spectrum (peak 1) times `scale`.
     Blackbody { kelvin: f32, scale: f32 },
+    /// A refractive index by Sellmeier's equation, n² = 1 + Σ B λ² / (λ² − C), λ in µm.
+    Sellmeier { b: [f32; 3], c: [f32; 3] },
+}
+
+/// Glasses by name (Schott's catalogue Sellmeier coefficients; fused silica after
+/// Malitson 1965), as pbrt-v4 names them (`glass-BK7`, ...) without the prefix.
+pub const GLASSES: [(&str, [f32; 3], [f32; 3]); 7] = [
+    (
+        "BK7",
+        [1.039_612_1, 0.231_792_34, 1.010_469_5],
+        [0.006_000_699, 0.020_017_914, 103.560_65],
+    ),
+    (
+        "BAF10",
+        [1.585_149_5, 0.143_559_39, 1.085_212_7],
+        [0.009_266_813, 0.042_448_98, 105.613_57],
+    ),
+    (
+        "FK51A",
+        [0.971_247_8, 0.216_901_42, 0.904_651_7],
+        [0.004_723_02, 0.015_357_561, 168.681_33],
+    ),
+    (
+        "LASF9",
+        [2.000_295_5, 0.298_926_9, 1.806_918_4],
+        [0.012_142_602, 0.053_873_624, 156.530_83],
+    ),
+    (
+        "SF5",
+        [1.524_818_9, 0.187_085_53, 1.427_290_2],
+        [0.011_254_756, 0.058_899_54, 129.141_67],
+    ),
+    (
+        "SF11",
+        [1.737_597, 0.313_747_35, 1.898_781],
+        [0.013_188_707, 0.062_306_814, 155.236_29],
+    ),
+    (
+        "fused-silica",
+        [0.696_166_3, 0.407_942_6, 0.897_479_4],
+        [0.004_679_148, 0.013_512_063, 97.934],
+    ),
+];
+
+/// The glass called `name` (case-insensitive; a `glass-` prefix allowed).
+pub fn glass(name: &str) -> Option<SpectrumValue> {
+    let name = name.strip_prefix("glass-").unwrap_or(name);
+    GLASSES
+        .iter()
+        .find(|(n, ..)| n.eq_ignore_ascii_case(name))
+        .map(|&(_, b, c)| SpectrumValue::Sellmeier { b, c })
 }
 
 impl SpectrumValue {
@@ -30,6 +81,11 @@ impl SpectrumValue {
         match self {
             SpectrumValue::Tabulated(t) => t.eval(lambda),
             SpectrumValue::Blackbody { kelvin, scale } => scale * Blackbody::new(*kelvin).eval(lambda),
+            SpectrumValue::Sellmeier { b, c } => {
+                let l2 = (lambda * 1e-3).powi(2);
+                let n2 = 1.0 + (0..3).map(|i| b[i] * l2 / (l2 - c[i])).sum::<f32>();
+                n2.max(1.0).sqrt()
+            }
         }
     }
 
@@ -51,6 +107,9 @@ impl SpectrumValue {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct MaterialSpectra {
     pub by_role: Vec<(Role, SpectrumValue)>,
+    /// A dielectric's index of refraction inside by wavelength, and the index outside: a
+    /// dispersive glass (its RGB-mode index is `eta` of the material).
+    pub ior: Option<(SpectrumValue, f32)>,
 }
 
 impl MaterialSpectra {
@@ -83,8 +142,17 @@ pub trait Tint {
     }
     /// The radiance `s` as linear sRGB for the film.
     fn to_rgb(&self, s: Self::S) -> Rgb;
-    /// The mean over the channels (as `Rgb::mean` for RGB).
+    /// The mean over the channels the path still carries (all of RGB's, as `Rgb::mean`;
+    /// a dispersed spectral path's hero alone): the spectral MIS of `volpath` over the
+    /// wavelengths that could have drawn the path.
     fn mean(&self, s: Self::S) -> f32;
+    /// The hero wavelength, if the path carries wavelengths.
+    fn hero(&self) -> Option<f32>;
+    /// The hero wavelength if the path still carries the others too (`None` for RGB
+    /// paths and paths already dispersed).
+    fn hero_alone(&self) -> Option<f32>;
+    /// Keeps the hero wavelength alone: a dispersive refraction sends the others elsewhere.
+    fn keep_hero_only(&mut self);
 }
 
 /// RGB rendering: colours as they are.
@@ -113,6 +181,13 @@ impl Tint for RgbTint {
     fn mean(&self, s: V3<f32>) -> f32 {
         Rgb::from(s).mean()
     }
+    fn hero(&self) -> Option<f32> {
+        None
+    }
+    fn hero_alone(&self) -> Option<f32> {
+        None
+    }
+    fn keep_hero_only(&mut self) {}
 }
 
 /// Spectral rendering: values at a path's wavelengths.
@@ -187,7 +262,23 @@ impl Tint for SpectralTint {
     }
 
     fn mean(&self, s: Sampled4<f32>) -> f32 {
-        s.brightness()
+        if self.wl.is_hero_only() {
+            s.0[0]
+        } else {
+            s.brightness()
+        }
+    }
+
+    fn hero(&self) -> Option<f32> {
+        Some(self.wl.lambda[0])
+    }
+
+    fn hero_alone(&self) -> Option<f32> {
+        (!self.wl.is_hero_only()).then_some(self.wl.lambda[0])
+    }
+
+    fn keep_hero_only(&mut self) {
+        self.wl.keep_hero_only();
     }
 }
 
@@ -195,6 +286,27 @@ impl Tint for SpectralTint {
 mod tests {
     use super::*;
     use penumbra_core::Pcg32;
+
+    /// Each glass's index at the helium d line (587.56 nm) is its catalogue n_d.
+    #[test]
+    fn glasses_have_their_catalogue_indices() {
+        for (name, nd) in [
+            ("BK7", 1.5168),
+            ("glass-BAF10", 1.67003),
+            ("FK51A", 1.48656),
+            ("LASF9", 1.85025),
+            ("SF5", 1.67271),
+            ("sf11", 1.78472),
+            ("fused-silica", 1.45846),
+        ] {
+            let n = glass(name).unwrap().eval(587.56);
+            assert!((n - nd).abs() < 2e-4, "{name}: {n} against {nd}");
+        }
+        // Normal dispersion: blue bends more than red.
+        let bk7 = glass("BK7").unwrap();
+        assert!(bk7.eval(450.0) > bk7.eval(650.0));
+        assert!(glass("unobtainium").is_none());
+    }
 
     /// Averaged over many paths' wavelengths, an uplifted RGB emission, and an uplifted
     /// reflectance lit by a white (D65) one, come back as their RGB colours (to the

@@ -18,13 +18,13 @@
 
 use super::nee::Shading;
 use super::{Integrator, IntegratorOptions, PathTracer, RayCounts, Splat};
-use crate::bsdfs::Role;
 use crate::bsdfs::TransportMode;
+use crate::bsdfs::{BsdfKind, Dielectric, Role};
 use crate::interface::{Capabilities, Progress};
 use crate::lights::{AreaSampling, LightSelection};
 use crate::media::{attenuation_in, Medium, MediumInterface, MediumPoint, Segment, Step, Tracker};
 use crate::phase::Phase;
-use crate::spectral::{RgbTint, SpectralTint, Tint};
+use crate::spectral::{MaterialSpectra, RgbTint, SpectralTint, Tint};
 use crate::Scene;
 use glam::Vec3;
 use penumbra_core::lanes::V3;
@@ -57,14 +57,11 @@ struct Weights<S> {
     r_l: S,
 }
 
-/// `a` over the mean of the channels of `r` (the path's estimate, see [`Weights`]).
+/// `a` over the mean of the channels of `r` that the path still carries (the path's
+/// estimate, see [`Weights`]; [`Tint::mean`]).
 #[inline]
-fn over_mean<S: Spectrum<f32>>(a: S, r: S) -> S {
-    let mut sum = r.channel(0);
-    for i in 1..S::CHANNELS {
-        sum += r.channel(i);
-    }
-    a.scale(S::CHANNELS as f32 / sum)
+fn over_mean<T: Tint>(tint: &T, a: T::S, r: T::S) -> T::S {
+    a.scale(1.0 / tint.mean(r))
 }
 
 /// Where a path scatters: at a surface (with the media on its sides, if it separates
@@ -210,6 +207,8 @@ impl VolPath {
             r_l: one,
         };
         let mut radiance = T::S::splat(0.0);
+        // Radiance found before the path became its hero wavelength's alone (dispersion).
+        let mut banked = Rgb::BLACK;
         let mut ray = Ray::new(camera_ray.origin, camera_ray.dir.normalize());
         let mut medium = scene.camera_medium;
         // Whether the last vertex was the camera or a perfectly specular bounce (no light
@@ -237,7 +236,7 @@ impl VolPath {
                         (specular, previous, crossings) = (false, p, 0);
                         counts.secondary += 1;
                         ray = Ray::new(p, wi);
-                        if !self.roulette(&mut w, eta_scale, depth, s.sampler) {
+                        if !self.roulette(&s.tint, &mut w, eta_scale, depth, s.sampler) {
                             break;
                         }
                         depth += 1;
@@ -262,7 +261,7 @@ impl VolPath {
                         w.r_u + w.r_l.scale(p_light)
                     };
                     let le = s.tint.illuminant(scene.light_spectrum(index), le);
-                    radiance = radiance + over_mean(w.beta.mul_each(le), r);
+                    radiance = radiance + over_mean(&s.tint, w.beta.mul_each(le), r);
                 }
             }
             let crossing = scene.media_of(it.surface.object).copied();
@@ -281,8 +280,24 @@ impl VolPath {
             if depth + 1 >= self.options.max_depth {
                 break;
             }
-            let sh = Shading::new(&it);
+            let mut sh = Shading::new(&it);
             let spectra = scene.spectra_of(it.surface.object);
+            if let Some((ior, outside, d)) = dispersive(&sh, spectra) {
+                if s.tint.hero_alone().is_some() {
+                    // What the four wavelengths found so far is theirs, weighed by their
+                    // spectral MIS; from here on only the hero could have drawn the path,
+                    // so its own probabilities weigh the rest ([`Tint::mean`]).
+                    banked += s.tint.to_rgb(radiance);
+                    radiance = T::S::splat(0.0);
+                    s.tint.keep_hero_only();
+                }
+                if let Some(lambda) = s.tint.hero() {
+                    sh.bsdf.kind = BsdfKind::Dielectric(Dielectric {
+                        eta: ior.eval(lambda) / outside,
+                        ..d
+                    });
+                }
+            }
             if sh.bsdf.has_smooth() {
                 let at = Vertex::Surface(&sh, crossing);
                 radiance = radiance + self.light_sample(scene, &at, medium, &w, &mut s, counts);
@@ -305,19 +320,19 @@ impl VolPath {
             if let Some(mi) = crossing {
                 medium = mi.towards(it.surface.ng, wi);
             }
-            if !self.roulette(&mut w, eta_scale, depth, s.sampler) {
+            if !self.roulette(&s.tint, &mut w, eta_scale, depth, s.sampler) {
                 break;
             }
             depth += 1;
         }
-        s.tint.to_rgb(radiance)
+        banked + s.tint.to_rgb(radiance)
     }
 
     /// The environment (or the background) met by a ray that left the scene, weighted
     /// against the environment's light samples unless the last vertex was specular.
     fn escaped<T: Tint>(&self, scene: &Scene, ray: &Ray, w: &Weights<T::S>, specular: bool, tint: &T) -> T::S {
         let Some((index, env)) = scene.environment() else {
-            return over_mean(w.beta.mul_each(tint.illuminant(None, scene.background)), w.r_u);
+            return over_mean(tint, w.beta.mul_each(tint.illuminant(None, scene.background)), w.r_u);
         };
         let at = env.lookup(ray.dir);
         let r = if specular {
@@ -326,7 +341,7 @@ impl VolPath {
             let (selection, _) = self.light_strategy();
             w.r_u + w.r_l.scale(scene.lights.pmf(selection, index) * env.pdf_at(&at))
         };
-        over_mean(w.beta.mul_each(tint.illuminant(None, env.le_at(&at))), r)
+        over_mean(tint, w.beta.mul_each(tint.illuminant(None, env.le_at(&at))), r)
     }
 
     /// One light sample at `at` (in `medium`, the vertex's own for a medium point and the
@@ -384,17 +399,18 @@ impl VolPath {
         let li = s.tint.illuminant(scene.light_spectrum(index), ls.li);
         let value = w.beta.mul_each(f).mul_each(tr.t).mul_each(li);
         if ls.delta {
-            over_mean(value, r_l)
+            over_mean(&s.tint, value, r_l)
         } else {
-            over_mean(value, r_l + w.r_u.mul_each(tr.r_u).scale(pdf_scatter))
+            over_mean(&s.tint, value, r_l + w.r_u.mul_each(tr.r_u).scale(pdf_scatter))
         }
     }
 
     /// Russian roulette from `rr_depth` on (`path`'s rule, with the throughput β/mean(r_u)):
     /// whether the path survives.
-    fn roulette<S: Spectrum<f32>>(
+    fn roulette<T: Tint>(
         &self,
-        w: &mut Weights<S>,
+        tint: &T,
+        w: &mut Weights<T::S>,
         eta_scale: f32,
         depth: u32,
         sampler: &mut PixelSampler,
@@ -402,7 +418,7 @@ impl VolPath {
         if depth + 1 < self.options.rr_depth {
             return true;
         }
-        let q = (over_mean(w.beta, w.r_u).max_channel() * eta_scale).min(0.95);
+        let q = (over_mean(tint, w.beta, w.r_u).max_channel() * eta_scale).min(0.95);
         if sampler.next_1d() >= q {
             return false;
         }
@@ -411,14 +427,23 @@ impl VolPath {
     }
 }
 
+/// A dispersive glass at `sh` (a dielectric whose material gives its index by
+/// wavelength): the index inside, outside, and the BSDF to give the hero's index. A
+/// spectral path meeting one keeps its hero wavelength alone and refracts by the index
+/// there (pbrt-v4's `TerminateSecondary`); RGB paths use the material's one index.
+fn dispersive<'m>(
+    sh: &Shading,
+    spectra: Option<&'m MaterialSpectra>,
+) -> Option<(&'m crate::spectral::SpectrumValue, f32, Dielectric)> {
+    match (spectra.and_then(|m| m.ior.as_ref()), sh.bsdf.kind) {
+        (Some((ior, outside)), BsdfKind::Dielectric(d)) => Some((ior, *outside, d)),
+        _ => None,
+    }
+}
+
 /// The BSDF's value and density towards `l` (local) in the tint's payload (a kind without
 /// a kernel over payloads answers in RGB, uplifted as a reflectance).
-fn eval_bsdf<T: Tint>(
-    sh: &Shading,
-    spectra: Option<&crate::spectral::MaterialSpectra>,
-    tint: &T,
-    l: Vec3,
-) -> (T::S, f32) {
+fn eval_bsdf<T: Tint>(sh: &Shading, spectra: Option<&MaterialSpectra>, tint: &T, l: Vec3) -> (T::S, f32) {
     let mode = TransportMode::Radiance;
     let to = |role: Role, c: V3<f32>| tint.param(spectra, role, c);
     match (
@@ -436,7 +461,7 @@ fn eval_bsdf<T: Tint>(
 /// A direction from the BSDF, its weight in the tint's payload (see [`eval_bsdf`]).
 fn sample_bsdf<T: Tint>(
     sh: &Shading,
-    spectra: Option<&crate::spectral::MaterialSpectra>,
+    spectra: Option<&MaterialSpectra>,
     tint: &T,
     u_lobe: f32,
     u: glam::Vec2,
@@ -637,7 +662,7 @@ fn ratio_tracking<T: Tint>(
                 tr.t = tr.t.mul_each(t_maj.mul_each(sigma_n).div_by(pdf));
                 tr.r_l = tr.r_l.mul_each(t_maj.mul_each(sigma_maj).div_by(pdf));
                 tr.r_u = tr.r_u.mul_each(t_maj.mul_each(sigma_n).div_by(pdf));
-                let estimate = over_mean(tr.t, tr.r_l + tr.r_u);
+                let estimate = over_mean(tint, tr.t, tr.r_l + tr.r_u);
                 if estimate.max_channel() < 0.05 {
                     tr.t = if s.rng.next_f32() < 0.75 {
                         T::S::splat(0.0)

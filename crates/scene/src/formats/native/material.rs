@@ -5,7 +5,8 @@
 //! - `diffuse`: `reflectance` (colour or texture, default 0.5).
 //! - `conductor`: `metal` (Au, Ag, Cu, Al; default Au) or `eta` and `k` colours;
 //!   `specular` tint; `roughness` (GGX α) or `alpha_u` and `alpha_v`; smooth without.
-//! - `dielectric`: `ior` (default 1.5), `ior_outside` (default 1), `reflectance`,
+//! - `dielectric`: `ior` (default 1.5; or a glass's name, `"BK7"`: dispersive in spectral
+//!   mode), `ior_outside` (default 1), `reflectance`,
 //!   `transmittance`, `roughness` / `alpha_u` + `alpha_v`.
 //! - `plastic`: `diffuse` (default 0.5), `specular` (default 1), `ior` (1.5),
 //!   `ior_outside` (1), `roughness` (isotropic).
@@ -31,6 +32,7 @@ use penumbra_core::Rgb;
 use penumbra_render::bsdfs::MetalFresnel;
 use penumbra_render::materials::{metal_ior, Coated, CoatedBase, Phong, Roughness, METALS};
 use penumbra_render::materials::{ConductorMaterial, DielectricMaterial, DiffuseMaterial};
+use penumbra_render::spectral::{glass, MaterialSpectra, GLASSES};
 use penumbra_render::{Material, Texture};
 
 const TYPES: [&str; 8] = [
@@ -54,9 +56,10 @@ pub fn read_all(tables: &[Table]) -> Result<Vec<MaterialDesc>> {
             })?,
             None => "phong".to_string(),
         };
+        let mut spectra = None;
         let material = match kind.as_str() {
             "phong" => Material::Phong(read_phong(t)?),
-            "dielectric" => read_dielectric(t)?,
+            "dielectric" => read_dielectric(t, &mut spectra)?,
             "coated" => read_coated(t)?,
             "null" => Material::null(),
             other => {
@@ -97,7 +100,7 @@ pub fn read_all(tables: &[Table]) -> Result<Vec<MaterialDesc>> {
         out.push(MaterialDesc {
             name,
             material,
-            spectra: None,
+            spectra,
         });
     }
     Ok(out)
@@ -192,10 +195,26 @@ fn metal_index(t: &Table) -> Result<(Rgb, Rgb)> {
     })
 }
 
-fn read_dielectric(t: &Table) -> Result<Material> {
-    let eta = t.positive_or("ior", 1.5)? / t.positive_or("ior_outside", 1.0)?;
+/// A dielectric; `ior` a number or a glass's name (dispersive: its index by wavelength
+/// goes to `spectra`, its index at 550 nm to RGB rendering).
+fn read_dielectric(t: &Table, spectra: &mut Option<MaterialSpectra>) -> Result<Material> {
+    let outside = t.positive_or("ior_outside", 1.0)?;
+    let inside = match t.get("ior") {
+        Some(v) if !v.is_number() => {
+            let name = v.str()?;
+            let g = glass(name).ok_or_else(|| {
+                v.error(format!("unknown glass `{name}`"))
+                    .label("not a glass")
+                    .help(format!("a number, or one of: {}", GLASSES.map(|g| g.0).join(", ")))
+            })?;
+            let n = g.eval(550.0);
+            spectra.get_or_insert_with(Default::default).ior = Some((g, outside));
+            n
+        }
+        _ => t.positive_or("ior", 1.5)?,
+    };
     Ok(Material::Dielectric(DielectricMaterial {
-        eta,
+        eta: inside / outside,
         reflectance: texture_or(t, "reflectance", 1.0)?,
         transmittance: texture_or(t, "transmittance", 1.0)?,
         roughness: roughness(t, true)?,
