@@ -23,7 +23,7 @@ fn number(json: &str, key: &str) -> f64 {
 }
 
 fn converges_to_mitsuba(name: &str) {
-    converges(&root().join(format!("scenes/media/{name}.xml")), "media", name);
+    converges(&root().join(format!("scenes/media/{name}.xml")), "media", name, false);
 }
 
 /// Our renders of `scene` against Mitsuba's reference `tests/data/{folder}/{name}`: at 256
@@ -31,13 +31,14 @@ fn converges_to_mitsuba(name: &str) {
 /// dominated by its rarest bright samples, and a seed's figure swings by ±20%), the mean
 /// of the four within 1.2 times Mitsuba's mean; the four averaged (1,024 spp) have each
 /// channel's mean within 0.5% of the reference's.
-fn converges(scene: &std::path::Path, folder: &str, name: &str) {
+fn converges(scene: &std::path::Path, folder: &str, name: &str, spectral: bool) {
     let data = root().join("tests/data").join(folder);
     let json = std::fs::read_to_string(data.join(format!("{name}.json"))).unwrap();
     let reference = read_image(&data.join(format!("{name}.exr"))).unwrap();
     let defines = [("res".to_string(), "64".to_string())];
     let mut desc = read_scene_with(scene, &defines).unwrap();
     assert!(desc.warnings.is_empty(), "{name}: {:?}", desc.warnings);
+    desc.render.spectral |= spectral;
     let mut sum = vec![penumbra::math::Rgb::BLACK; reference.pixels.len()];
     let mut rel_mse = 0.0;
     for seed in 1..=4 {
@@ -100,5 +101,18 @@ fn the_spectral_cornell_box_converges_to_mitsuba() {
         );
         return;
     }
-    converges(&scene, "spectral", "cbox-spectral");
+    converges(&scene, "spectral", "cbox-spectral", false);
+}
+
+/// Rough gold and smooth copper spheres (measured η and k by wavelength) in the Cornell
+/// box, its RGB walls and light uplifted to spectra (reflectances, and D65 times a smooth
+/// spectrum for the light), rendered with `--spectral`, against `llvm_ad_spectral`.
+#[test]
+fn spectral_metals_and_uplifted_colours_converge_to_mitsuba() {
+    converges(
+        &root().join("scenes/spectral/metals-cbox.xml"),
+        "spectral",
+        "metals-cbox",
+        true,
+    );
 }

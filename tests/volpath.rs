@@ -265,6 +265,7 @@ fn an_emitters_own_spectrum_is_seen() {
     let want = ramp.radiance_rgb();
     scene.light_spectra = vec![Some(EmitterSpectrum {
         spectrum: ramp,
+        scale: 1.0,
         rgb: Rgb::WHITE,
     })];
     sees(

@@ -21,6 +21,7 @@ SCENES = {
     "media-spheres": ("scenes/media/media-spheres.xml", "llvm_ad_rgb", "media"),
     "cloud-cbox": ("scenes/media/cloud-cbox.xml", "llvm_ad_rgb", "media"),
     "cbox-spectral": ("../shared/scenes/mitsuba-cbox/cbox-spectral.xml", "llvm_ad_spectral", "spectral"),
+    "metals-cbox": ("scenes/spectral/metals-cbox.xml", "llvm_ad_spectral", "spectral"),
 }
 
 

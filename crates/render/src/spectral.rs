@@ -118,11 +118,13 @@ impl MaterialSpectra {
     }
 }
 
-/// An emitter's own spectrum and the RGB radiance it stands for (which the emitter's RGB
-/// values are scaled from).
+/// An emitter's own spectrum: its radiance is `scale` times `spectrum`, and `rgb` is the
+/// RGB radiance the emitter has in the scene for it (the RGB values the light answers,
+/// scaled by a texture or a distance falloff, scale the spectrum alike).
 #[derive(Clone, Debug, PartialEq)]
 pub struct EmitterSpectrum {
     pub spectrum: SpectrumValue,
+    pub scale: f32,
     pub rgb: Rgb,
 }
 
@@ -241,7 +243,7 @@ impl Tint for SpectralTint {
             // a distance falloff).
             let reference = own.rgb.max_component();
             let scale = if reference > 0.0 {
-                c.max_component() / reference
+                own.scale * c.max_component() / reference
             } else {
                 0.0
             };
@@ -319,6 +321,7 @@ mod tests {
         let albedo = Rgb::new(0.570068, 0.0430135, 0.0443706);
         let flat = EmitterSpectrum {
             spectrum: SpectrumValue::Tabulated(Arc::new(Tabulated::new(&[(400.0, 2.0), (700.0, 4.0)]).unwrap())),
+            scale: 1.0,
             rgb: Rgb::WHITE,
         };
         let white = Rgb::splat(5.0);

@@ -109,8 +109,9 @@ pub fn build_scene(desc: &SceneDesc) -> Result<Scene, SceneError> {
         object_media.push(s.media);
         if let Some(emission) = &s.emission {
             let area = area_lights(&s.kind, t, emission, &desc.meshes).map_err(|e| fail(&s.location, &e))?;
-            let spectrum = emission.spectrum.clone().map(|spectrum| EmitterSpectrum {
+            let spectrum = emission.spectrum.clone().map(|(spectrum, scale)| EmitterSpectrum {
                 spectrum,
+                scale,
                 rgb: emission.radiance,
             });
             emitters.push((object, area, spectrum));

@@ -216,8 +216,9 @@ pub struct Emission {
     pub radiance: Rgb,
     pub two_sided: bool,
     pub texture: Option<Texture>,
-    /// The emitter's own spectrum, whose colour `radiance` is (spectral mode uses it).
-    pub spectrum: Option<SpectrumValue>,
+    /// The emitter's own spectrum and its scale (the radiance is scale × spectrum, whose
+    /// colour `radiance` is; spectral mode uses it).
+    pub spectrum: Option<(SpectrumValue, f32)>,
 }
 
 #[derive(Clone, Debug)]

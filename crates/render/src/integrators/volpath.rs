@@ -7,8 +7,9 @@
 //! `r_l` (of the same path by light sampling), so that the channels are combined by the
 //! balance heuristic (spectral MIS); light samples at surfaces and in media, their shadow
 //! rays weighed by ratio tracking through the media and stepping over boundaries
-//! ([`crate::Material::null`]), combined with BSDF and phase sampling by the balance
-//! heuristic. Russian roulette as `path` (Mitsuba's rule, on the throughput over the mean
+//! ([`crate::Material::null`]), combined with BSDF and phase sampling by the power
+//! heuristic on the channels' mean probabilities (as `path` and Mitsuba's `volpath` weigh
+//! the two strategies). Russian roulette as `path` (Mitsuba's rule, on the throughput over the mean
 //! of `r_u`), after surface and medium vertices alike.
 //!
 //! A scene without media is rendered by `path` itself: the same image, bit for bit. In
@@ -62,6 +63,16 @@ struct Weights<S> {
 #[inline]
 fn over_mean<T: Tint>(tint: &T, a: T::S, r: T::S) -> T::S {
     a.scale(1.0 / tint.mean(r))
+}
+
+/// `value` found by one of two strategies whose rescaled probabilities for the path are
+/// `own` and `other` (their means over the channels: the spectral MIS), weighted against
+/// the other by the power heuristic (Veach and Guibas 1995, as `path` and Mitsuba weigh
+/// light and BSDF samples): value/own × own²/(own² + other²).
+#[inline]
+fn power_weighted<T: Tint>(tint: &T, value: T::S, own: T::S, other: T::S) -> T::S {
+    let (a, b) = (tint.mean(own), tint.mean(other));
+    value.scale(a / (a * a + b * b))
 }
 
 /// Where a path scatters: at a surface (with the media on its sides, if it separates
@@ -253,15 +264,15 @@ impl VolPath {
                 let normal = light.emitter.normal_at(it.surface.p);
                 let le = light.le(it.surface.p, normal, it.wo);
                 if !le.is_black() {
-                    let r = if specular {
-                        w.r_u
-                    } else {
-                        let p_light =
-                            scene.lights.pmf(selection, index) * light.pdf(previous, it.surface.p, normal, sampling);
-                        w.r_u + w.r_l.scale(p_light)
-                    };
-                    let le = s.tint.illuminant(scene.light_spectrum(index), le);
-                    radiance = radiance + over_mean(&s.tint, w.beta.mul_each(le), r);
+                    let le = w.beta.mul_each(s.tint.illuminant(scene.light_spectrum(index), le));
+                    radiance = radiance
+                        + if specular {
+                            over_mean(&s.tint, le, w.r_u)
+                        } else {
+                            let p_light = scene.lights.pmf(selection, index)
+                                * light.pdf(previous, it.surface.p, normal, sampling);
+                            power_weighted(&s.tint, le, w.r_u, w.r_l.scale(p_light))
+                        };
                 }
             }
             let crossing = scene.media_of(it.surface.object).copied();
@@ -335,19 +346,23 @@ impl VolPath {
             return over_mean(tint, w.beta.mul_each(tint.illuminant(None, scene.background)), w.r_u);
         };
         let at = env.lookup(ray.dir);
-        let r = if specular {
-            w.r_u
-        } else {
-            let (selection, _) = self.light_strategy();
-            w.r_u + w.r_l.scale(scene.lights.pmf(selection, index) * env.pdf_at(&at))
-        };
-        over_mean(tint, w.beta.mul_each(tint.illuminant(None, env.le_at(&at))), r)
+        let le = w.beta.mul_each(tint.illuminant(None, env.le_at(&at)));
+        if specular {
+            return over_mean(tint, le, w.r_u);
+        }
+        let (selection, _) = self.light_strategy();
+        power_weighted(
+            tint,
+            le,
+            w.r_u,
+            w.r_l.scale(scene.lights.pmf(selection, index) * env.pdf_at(&at)),
+        )
     }
 
     /// One light sample at `at` (in `medium`, the vertex's own for a medium point and the
     /// incoming ray's for a surface): its contribution, its shadow ray's transmittance
-    /// estimated by ratio tracking, weighed against BSDF or phase sampling (balance
-    /// heuristic over both strategies and the three channels).
+    /// estimated by ratio tracking, weighed against BSDF or phase sampling (the power
+    /// heuristic between the strategies, the balance heuristic over the channels).
     fn light_sample<T: Tint>(
         &self,
         scene: &Scene,
@@ -401,7 +416,7 @@ impl VolPath {
         if ls.delta {
             over_mean(&s.tint, value, r_l)
         } else {
-            over_mean(&s.tint, value, r_l + w.r_u.mul_each(tr.r_u).scale(pdf_scatter))
+            power_weighted(&s.tint, value, r_l, w.r_u.mul_each(tr.r_u).scale(pdf_scatter))
         }
     }
 

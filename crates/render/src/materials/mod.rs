@@ -9,6 +9,7 @@ mod coated;
 mod conductor;
 mod dielectric;
 mod diffuse;
+mod metal_spectra;
 mod metals;
 mod phong;
 mod plastic;
@@ -17,7 +18,7 @@ pub use coated::{Coated, CoatedBase};
 pub use conductor::ConductorMaterial;
 pub use dielectric::DielectricMaterial;
 pub use diffuse::DiffuseMaterial;
-pub use metals::{metal_ior, METALS};
+pub use metals::{metal_ior, metal_spectra, METALS};
 pub use phong::Phong;
 pub use plastic::PlasticMaterial;
 

@@ -5,7 +5,7 @@ use super::{warn_unused, At, Reader, Result};
 use penumbra_core::Rgb;
 use penumbra_render::bsdfs::MetalFresnel;
 use penumbra_render::bsdfs::Role;
-use penumbra_render::materials::{metal_ior, Roughness};
+use penumbra_render::materials::{metal_ior, metal_spectra, Roughness};
 use penumbra_render::materials::{ConductorMaterial, DielectricMaterial, DiffuseMaterial};
 use penumbra_render::texture::Wrap;
 use penumbra_render::{Material, Texture};
@@ -39,14 +39,24 @@ fn ior(r: &Reader, p: &Props, name: &str, default: f32) -> Result<f32> {
         .ok_or_else(|| r.attr_error(v, "value", format!("unknown index of refraction `{s}`")))
 }
 
-/// GGX roughness from `alpha` or `alpha_u`/`alpha_v` (default 0.1).
+/// GGX roughness from `alpha` or `alpha_u`/`alpha_v` (default 0.1). Mitsuba's other
+/// distribution, Beckmann, is also its default: either is warned and rendered as GGX.
 fn roughness(r: &mut Reader, p: &Props, what: &str) -> Result<Roughness> {
-    if let Some((d, v)) = p.string(r, "distribution")? {
-        if d != "ggx" {
+    match p.string(r, "distribution")? {
+        Some((d, _)) if d == "ggx" => {}
+        Some((d, v)) => r.warn_once(
+            "distribution",
+            format!("{}: {what}: the `{d}` distribution is rendered as GGX", v.place()),
+        ),
+        None => {
+            let at = p.at;
             r.warn_once(
                 "distribution",
-                format!("{}: {what}: the `{d}` distribution is rendered as GGX", v.place()),
-            );
+                format!(
+                    "{}: {what}: Mitsuba's default `beckmann` distribution is rendered as GGX (give `ggx` to match)",
+                    at.place()
+                ),
+            )
         }
     }
     p.bool_or(r, "sample_visible", true)?;
@@ -76,6 +86,8 @@ pub fn bsdf(r: &mut Reader, at: At) -> Result<Material> {
         ("diffuse_reflectance", Role::Reflectance),
         ("specular_reflectance", Role::Specular),
         ("specular_transmittance", Role::Transmittance),
+        ("eta", Role::Eta),
+        ("k", Role::K),
     ] {
         if let Some(s) = p.spectrum(r, name)? {
             r.spectra.by_role.push((role, s));
@@ -98,7 +110,12 @@ pub fn bsdf(r: &mut Reader, at: At) -> Result<Material> {
                     None => (Rgb::BLACK, Rgb::WHITE),
                     Some((name, _)) if name == "none" => (Rgb::BLACK, Rgb::WHITE),
                     Some((name, v)) => match metal_ior(&name) {
-                        Some(m) => m,
+                        Some(m) => {
+                            if let Some(s) = metal_spectra(&name) {
+                                r.spectra.by_role.extend(s.by_role);
+                            }
+                            m
+                        }
                         None => {
                             r.warn_once(
                                 &format!("metal {name}"),

@@ -74,7 +74,7 @@ pub fn emitter(r: &mut Reader, at: At) -> Result<()> {
                 ));
             };
             let radiance = p.color_or(r, "radiance", 1.0)?;
-            let spectrum = p.spectrum(r, "radiance")?;
+            let spectrum = p.spectrum(r, "radiance")?.map(|s| (s, 1.0));
             r.area_emitters.insert(
                 id,
                 Emission {

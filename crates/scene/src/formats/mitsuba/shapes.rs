@@ -90,7 +90,7 @@ pub fn shape(r: &mut Reader, at: At) -> Result<()> {
         match r.require(e, "type")?.as_str() {
             "area" => {
                 let radiance = ep.color_or(r, "radiance", 1.0)?;
-                let spectrum = ep.spectrum(r, "radiance")?;
+                let spectrum = ep.spectrum(r, "radiance")?.map(|s| (s, 1.0));
                 emission = Some(Emission {
                     radiance,
                     two_sided: false,

@@ -30,7 +30,7 @@ use crate::desc::MaterialDesc;
 use crate::params::{Result, Table, Value};
 use penumbra_core::Rgb;
 use penumbra_render::bsdfs::MetalFresnel;
-use penumbra_render::materials::{metal_ior, Coated, CoatedBase, Phong, Roughness, METALS};
+use penumbra_render::materials::{metal_ior, metal_spectra, Coated, CoatedBase, Phong, Roughness, METALS};
 use penumbra_render::materials::{ConductorMaterial, DielectricMaterial, DiffuseMaterial};
 use penumbra_render::spectral::{glass, MaterialSpectra, GLASSES};
 use penumbra_render::{Material, Texture};
@@ -67,7 +67,7 @@ pub fn read_all(tables: &[Table]) -> Result<Vec<MaterialDesc>> {
                     "diffuse" => Material::Diffuse(DiffuseMaterial {
                         reflectance: texture_or(t, "reflectance", 0.5)?,
                     }),
-                    "conductor" => read_conductor(t)?,
+                    "conductor" => read_conductor(t, &mut spectra)?,
                     "plastic" => {
                         let eta = t.positive_or("ior", 1.5)? / t.positive_or("ior_outside", 1.0)?;
                         let roughness = roughness(t, false)?;
@@ -128,8 +128,14 @@ fn read_phong(t: &Table) -> Result<Phong> {
     })
 }
 
-fn read_conductor(t: &Table) -> Result<Material> {
+/// A conductor; a named `metal` brings its measured spectra for spectral rendering.
+fn read_conductor(t: &Table, spectra: &mut Option<MaterialSpectra>) -> Result<Material> {
     let (eta, k) = metal_index(t)?;
+    if t.get("eta").is_none() {
+        if let Some(v) = t.get("metal") {
+            *spectra = metal_spectra(v.str()?);
+        }
+    }
     Ok(Material::Conductor(ConductorMaterial {
         fresnel: MetalFresnel::Complex { eta, k },
         specular: texture_or(t, "specular", 1.0)?,
