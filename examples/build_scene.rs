@@ -26,6 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         scene.materials.push(MaterialDesc {
             name: name.into(),
             material: Material::Phong(m),
+            spectra: None,
         });
         Some(scene.materials.len() - 1)
     };

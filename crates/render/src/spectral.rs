@@ -28,6 +28,7 @@ pub enum SpectrumValue {
 
 /// Glasses by name (Schott's catalogue Sellmeier coefficients; fused silica after
 /// Malitson 1965), as pbrt-v4 names them (`glass-BK7`, ...) without the prefix.
+#[allow(clippy::excessive_precision)]
 pub const GLASSES: [(&str, [f32; 3], [f32; 3]); 7] = [
     (
         "BK7",

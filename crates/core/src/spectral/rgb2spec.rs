@@ -6,7 +6,7 @@
 //!
 //! The table (`data/rgb2spec-srgb.bin` in this crate, linear sRGB under D65) is built into
 //! the binary. Its layout: the bytes `PNRGB2SP`, the resolution `res` (u32), `res` brightness
-//! nodes, then `3 × res³` coefficient triples ([largest channel][brightness][y][x]), all
+//! nodes, then `3 × res³` coefficient triples (indexed by largest channel, brightness, y, x), all
 //! little-endian `f32`.
 
 use std::sync::OnceLock;

@@ -124,7 +124,7 @@ impl GridMedium {
 }
 
 impl GridMedium {
-    /// The majorant grid's size in bytes (fixed: [`MAJORANT_RES`]³ floats).
+    /// The majorant grid's size in bytes (fixed: 16³ floats).
     pub fn majorant_bytes(&self) -> usize {
         4 * self.majorants.len()
     }
