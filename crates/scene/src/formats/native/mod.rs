@@ -437,3 +437,5 @@ fn read_light(t: &Table) -> Result<LightDesc> {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_media;
