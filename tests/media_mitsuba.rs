@@ -116,3 +116,17 @@ fn spectral_metals_and_uplifted_colours_converge_to_mitsuba() {
         true,
     );
 }
+
+/// A smooth and a frosted glass sphere in the Cornell box under a white light (caustics
+/// through both), its RGB colours uplifted, rendered with `--spectral`, against
+/// `llvm_ad_spectral`. (Mitsuba's dielectric takes one index: dispersion itself is checked
+/// by the furnace in `tests/volpath.rs`.)
+#[test]
+fn spectral_glass_converges_to_mitsuba() {
+    converges(
+        &root().join("scenes/spectral/glass-cbox.xml"),
+        "spectral",
+        "glass-cbox",
+        true,
+    );
+}

@@ -22,6 +22,7 @@ SCENES = {
     "cloud-cbox": ("scenes/media/cloud-cbox.xml", "llvm_ad_rgb", "media"),
     "cbox-spectral": ("../shared/scenes/mitsuba-cbox/cbox-spectral.xml", "llvm_ad_spectral", "spectral"),
     "metals-cbox": ("scenes/spectral/metals-cbox.xml", "llvm_ad_spectral", "spectral"),
+    "glass-cbox": ("scenes/spectral/glass-cbox.xml", "llvm_ad_spectral", "spectral"),
 }
 
 
