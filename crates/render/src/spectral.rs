@@ -151,9 +151,9 @@ pub trait Tint {
     fn mean(&self, s: Self::S) -> f32;
     /// The hero wavelength, if the path carries wavelengths.
     fn hero(&self) -> Option<f32>;
-    /// The hero wavelength if the path still carries the others too (`None` for RGB
-    /// paths and paths already dispersed).
-    fn hero_alone(&self) -> Option<f32>;
+    /// Whether the path still carries several wavelengths (not RGB paths, not paths
+    /// already dispersed).
+    fn carries_several(&self) -> bool;
     /// Keeps the hero wavelength alone: a dispersive refraction sends the others elsewhere.
     fn keep_hero_only(&mut self);
 }
@@ -187,8 +187,8 @@ impl Tint for RgbTint {
     fn hero(&self) -> Option<f32> {
         None
     }
-    fn hero_alone(&self) -> Option<f32> {
-        None
+    fn carries_several(&self) -> bool {
+        false
     }
     fn keep_hero_only(&mut self) {}
 }
@@ -276,8 +276,8 @@ impl Tint for SpectralTint {
         Some(self.wl.lambda[0])
     }
 
-    fn hero_alone(&self) -> Option<f32> {
-        (!self.wl.is_hero_only()).then_some(self.wl.lambda[0])
+    fn carries_several(&self) -> bool {
+        !self.wl.is_hero_only()
     }
 
     fn keep_hero_only(&mut self) {

@@ -43,36 +43,23 @@ impl<'a> Bsdf<'a> {
         })
     }
 
-    /// [`Bsdf::eval`] in `S`.
-    pub fn eval_in<S: Spectrum<f32>>(
+    /// [`Bsdf::eval`] in `S` and [`Bsdf::pdf`] (the payload's channels weighing the
+    /// choice between lobes), from one kernel.
+    pub fn eval_pdf_in<S: Spectrum<f32>>(
         &self,
         wo: Vec3,
         wi: Vec3,
         mode: TransportMode,
         to: &impl Fn(Role, V3<f32>) -> S,
-    ) -> Option<S> {
+    ) -> Option<(S, f32)> {
         let (wo, wi) = if self.mirrored(wo) {
             (flip(wo), flip(wi))
         } else {
             (wo, wi)
         };
-        self.with_kernel(mode, to, |k| k.eval(wo.into(), wi.into()))
-    }
-
-    /// [`Bsdf::pdf`], the payload's channels weighing the choice between lobes.
-    pub fn pdf_in<S: Spectrum<f32>>(
-        &self,
-        wo: Vec3,
-        wi: Vec3,
-        mode: TransportMode,
-        to: &impl Fn(Role, V3<f32>) -> S,
-    ) -> Option<f32> {
-        let (wo, wi) = if self.mirrored(wo) {
-            (flip(wo), flip(wi))
-        } else {
-            (wo, wi)
-        };
-        self.with_kernel(mode, to, |k| k.pdf(wo.into(), wi.into()))
+        self.with_kernel(mode, to, |k| {
+            (k.eval(wo.into(), wi.into()), k.pdf(wo.into(), wi.into()))
+        })
     }
 
     /// [`Bsdf::sample`] in `S`: `None` without a kernel, `Some(None)` where no usable
@@ -142,11 +129,9 @@ mod tests {
                         || Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, rng.next_f32() - 0.5).normalize();
                     let (wo, wi) = (dir(), dir());
                     let mode = TransportMode::Radiance;
-                    assert_eq!(Rgb::from(b.eval_in(wo, wi, mode, &rgb).unwrap()), b.eval(wo, wi, mode));
-                    assert_eq!(
-                        b.pdf_in(wo, wi, mode, &rgb).unwrap().to_bits(),
-                        b.pdf(wo, wi, mode).to_bits()
-                    );
+                    let (f, pdf) = b.eval_pdf_in(wo, wi, mode, &rgb).unwrap();
+                    assert_eq!(Rgb::from(f), b.eval(wo, wi, mode));
+                    assert_eq!(pdf.to_bits(), b.pdf(wo, wi, mode).to_bits());
                     let (u_lobe, u) = (rng.next_f32(), Vec2::new(rng.next_f32(), rng.next_f32()));
                     let a = b.sample_in(wo, u_lobe, u, mode, &rgb).unwrap();
                     let s = b.sample(wo, u_lobe, u, mode);

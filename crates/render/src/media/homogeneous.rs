@@ -40,13 +40,7 @@ impl Homogeneous {
 
     /// σs/σt in each channel (0 where σt is).
     pub fn albedo(&self) -> Rgb {
-        let t = self.sigma_t();
-        let ratio = |s: f32, t: f32| if t > 0.0 { s / t } else { 0.0 };
-        Rgb::new(
-            ratio(self.sigma_s.r, t.r),
-            ratio(self.sigma_s.g, t.g),
-            ratio(self.sigma_s.b, t.b),
-        )
+        self.at(Vec3::ZERO).albedo()
     }
 }
 

@@ -37,6 +37,17 @@ impl MediumPoint {
     pub fn sigma_t(&self) -> Rgb {
         self.sigma_a + self.sigma_s
     }
+
+    /// The single-scattering albedo σs/σt per channel (0 where σt is), at most 1.
+    pub fn albedo(&self) -> Rgb {
+        let t = self.sigma_t();
+        let ratio = |s: f32, t: f32| if t > 0.0 { (s / t).min(1.0) } else { 0.0 };
+        Rgb::new(
+            ratio(self.sigma_s.r, t.r),
+            ratio(self.sigma_s.g, t.g),
+            ratio(self.sigma_s.b, t.b),
+        )
+    }
 }
 
 /// A stretch `[t0, t1)` of a ray (unit direction) over which the majorant is constant.

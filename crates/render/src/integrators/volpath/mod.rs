@@ -297,7 +297,7 @@ impl VolPath {
             let mut sh = Shading::new(&it);
             let spectra = scene.spectra_of(it.surface.object);
             if let Some((ior, outside, d)) = dispersive(&sh, spectra) {
-                if s.tint.hero_alone().is_some() {
+                if s.tint.carries_several() {
                     // What the four wavelengths found so far is theirs, weighed by their
                     // spectral MIS; from here on only the hero could have drawn the path,
                     // so its own probabilities weigh the rest ([`Tint::mean`]).
@@ -464,12 +464,9 @@ fn dispersive<'m>(
 fn eval_bsdf<T: Tint>(sh: &Shading, spectra: Option<&MaterialSpectra>, tint: &T, l: Vec3) -> (T::S, f32) {
     let mode = TransportMode::Radiance;
     let to = |role: Role, c: V3<f32>| tint.param(spectra, role, c);
-    match (
-        sh.bsdf.eval_in(sh.wo, l, mode, &to),
-        sh.bsdf.pdf_in(sh.wo, l, mode, &to),
-    ) {
-        (Some(f), Some(pdf)) => (f, pdf),
-        _ => (
+    match sh.bsdf.eval_pdf_in(sh.wo, l, mode, &to) {
+        Some(answer) => answer,
+        None => (
             tint.param(None, Role::Reflectance, sh.bsdf.eval(sh.wo, l, mode).into()),
             sh.bsdf.pdf(sh.wo, l, mode),
         ),

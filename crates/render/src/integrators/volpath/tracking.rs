@@ -17,15 +17,8 @@ use penumbra_core::{Ray, Rgb};
 /// the albedo σs/σt as a reflectance (so that σs ≤ σt at every wavelength, as Mitsuba
 /// models its media's spectra).
 pub(super) fn coefficients<T: Tint>(tint: &T, mp: &MediumPoint) -> (T::S, T::S) {
-    let sigma_t = mp.sigma_t();
-    let ratio = |s: f32, t: f32| if t > 0.0 { (s / t).min(1.0) } else { 0.0 };
-    let albedo = Rgb::new(
-        ratio(mp.sigma_s.r, sigma_t.r),
-        ratio(mp.sigma_s.g, sigma_t.g),
-        ratio(mp.sigma_s.b, sigma_t.b),
-    );
-    let t = tint.unbounded(sigma_t);
-    (t, tint.param(None, Role::Reflectance, albedo.into()).mul_each(t))
+    let t = tint.unbounded(mp.sigma_t());
+    (t, tint.param(None, Role::Reflectance, mp.albedo().into()).mul_each(t))
 }
 
 /// Delta tracking of `ray` (unit direction) through `medium` up to `t_max`: each tentative
